@@ -1,0 +1,104 @@
+//! The book's thin-lens camera, with pixel squares that tile the viewport exactly.
+//!
+//! Sample `(ox, oy)` of pixel `(i, j)` aims at `pixel00 + (i + ox)·Δu + (j + oy)·Δv` with
+//! `ox, oy` uniform in `[−½, ½]` (the book's current edition): pixel `i` covers exactly its
+//! `1/W` of the viewport, unlike the older `(i + rand)/(W − 1)`, which stretches the image.
+
+use rand::Rng;
+use serde::{Deserialize, Serialize};
+
+use crate::ray::Ray;
+use crate::real::{Real, Vec3, vec3};
+use crate::sampler::{random_in_unit_disk, uniform};
+
+/// The camera as a scene file states it (the book's parameters, in f64 as written).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraSettings {
+    /// Eye position.
+    pub lookfrom: [f64; 3],
+    /// Point the camera looks at (projects to the image centre).
+    pub lookat: [f64; 3],
+    /// "Up" direction; must not be parallel to the view direction.
+    pub vup: [f64; 3],
+    /// Vertical field of view, degrees, in (0, 180).
+    pub vfov: f64,
+    /// Lens diameter; 0 = pinhole (no defocus blur).
+    #[serde(default)]
+    pub aperture: f64,
+    /// Distance from `lookfrom` to the plane in perfect focus.
+    pub focus_dist: f64,
+    /// Image width ÷ height used when the height is not given.
+    #[serde(default = "default_aspect")]
+    pub aspect: f64,
+}
+
+fn default_aspect() -> f64 {
+    1.5
+}
+
+/// A camera ready to generate rays for one image size.
+#[derive(Clone, Copy, Debug)]
+pub struct Camera {
+    center: Vec3,
+    pixel00: Vec3,
+    delta_u: Vec3,
+    delta_v: Vec3,
+    /// Lens basis vectors scaled by the lens radius (zero for a pinhole).
+    lens_u: Vec3,
+    lens_v: Vec3,
+    has_lens: bool,
+}
+
+impl Camera {
+    /// Sets the camera up for a `width × height` image (the image's own aspect ratio rules;
+    /// `settings.aspect` only serves to choose a default height).
+    pub fn new(settings: &CameraSettings, width: u32, height: u32) -> Camera {
+        let center = vec3(settings.lookfrom);
+        let focus = settings.focus_dist as Real;
+        let h = (settings.vfov as Real).to_radians() * 0.5;
+        let viewport_height = 2.0 * h.tan() * focus;
+        let viewport_width = viewport_height * width as Real / height as Real;
+        // Orthonormal basis: w points backwards, u right, v up.
+        let w = (center - vec3(settings.lookat)).normalize();
+        let u = vec3(settings.vup).cross(w).normalize();
+        let v = w.cross(u);
+        let viewport_u = viewport_width * u;
+        let viewport_v = -viewport_height * v; // image rows go down
+        let delta_u = viewport_u / width as Real;
+        let delta_v = viewport_v / height as Real;
+        let upper_left = center - focus * w - 0.5 * (viewport_u + viewport_v);
+        let lens_radius = settings.aperture as Real * 0.5;
+        Camera {
+            center,
+            pixel00: upper_left + 0.5 * (delta_u + delta_v),
+            delta_u,
+            delta_v,
+            lens_u: lens_radius * u,
+            lens_v: lens_radius * v,
+            has_lens: lens_radius > 0.0,
+        }
+    }
+
+    /// A camera ray through a uniformly random point of pixel `(i, j)` (column, row from the
+    /// top), from a random point on the lens. A pinhole camera draws no lens numbers.
+    pub fn ray<R: Rng + ?Sized>(&self, i: u32, j: u32, rng: &mut R) -> Ray {
+        let ox = uniform(rng) - 0.5;
+        let oy = uniform(rng) - 0.5;
+        let target = self.pixel00 + (i as Real + ox) * self.delta_u + (j as Real + oy) * self.delta_v;
+        let origin = if self.has_lens {
+            let (x, y) = random_in_unit_disk(rng);
+            self.center + x * self.lens_u + y * self.lens_v
+        } else {
+            self.center
+        };
+        Ray::new(origin, target - origin)
+    }
+
+    /// The ray through the exact centre of pixel-space point `(x, y)` (in pixels, from the
+    /// top-left corner) from the lens centre: for tests and for aiming.
+    pub fn center_ray(&self, x: Real, y: Real) -> Ray {
+        let target = self.pixel00 + (x - 0.5) * self.delta_u + (y - 0.5) * self.delta_v;
+        Ray::new(self.center, target - self.center)
+    }
+}

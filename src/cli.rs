@@ -1,0 +1,175 @@
+//! The command line: `raypool render | scenes | scene`. Every failure is an [`Error`] that
+//! `main` prints on one line before exiting with code 2.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use crate::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
+use crate::error::Error;
+use crate::output::PendingOutput;
+use crate::render::{RenderJob, RenderSettings};
+use crate::sampler::PerSample;
+use crate::scene_file::SceneFile;
+use crate::schedule::{Schedule, render};
+
+/// Largest accepted image side, pixels.
+pub const MAX_SIDE: u32 = 16384;
+
+/// raypool: the book's ray tracer on hand-written thread pools.
+#[derive(Debug, Parser)]
+#[command(name = "raypool", version, about)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render a scene to an image (.png, .ppm or .pfm).
+    Render(RenderArgs),
+    /// List the built-in scenes.
+    Scenes,
+    /// Print a scene as TOML (e.g. `raypool scene final > final.toml`).
+    Scene {
+        /// Built-in scene name (see `raypool scenes`).
+        name: String,
+        /// Seed of generated scenes (`final`).
+        #[arg(long, default_value_t = DEFAULT_SCENE_SEED)]
+        scene_seed: u64,
+    },
+}
+
+/// Options of `raypool render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// Built-in scene (see `raypool scenes`).
+    #[arg(long, default_value = "final", conflicts_with = "scene_file")]
+    pub scene: String,
+    /// Scene file in raypool's TOML format, instead of a built-in scene.
+    #[arg(long, value_name = "PATH")]
+    pub scene_file: Option<PathBuf>,
+    /// Seed of generated scenes (`final`).
+    #[arg(long, default_value_t = DEFAULT_SCENE_SEED)]
+    pub scene_seed: u64,
+    /// Image width, pixels.
+    #[arg(long, default_value_t = 400, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
+    pub width: u32,
+    /// Image height, pixels [default: width ÷ the scene camera's aspect].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
+    pub height: Option<u32>,
+    /// Samples per pixel.
+    #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..))]
+    pub spp: u32,
+    /// Maximum rays per path, camera ray included (the book's max_depth).
+    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=10_000))]
+    pub depth: u32,
+    /// Seed of the pixel samples' random streams.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads [default: the number of CPUs].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub threads: Option<u32>,
+    /// Scheduler.
+    #[arg(long, value_enum, default_value_t = Schedule::StaticBlocks)]
+    pub mode: Schedule,
+    /// Output image; the extension picks the format: .png, .ppm (P6) or .pfm (linear float).
+    #[arg(long, default_value = "render.png")]
+    pub out: PathBuf,
+}
+
+/// Runs one parsed command line.
+pub fn run(cli: Cli) -> Result<(), Error> {
+    match cli.command {
+        Command::Render(args) => render_command(&args),
+        Command::Scenes => {
+            for b in BUILTINS {
+                println!("{:<14} {}", b.name, b.about);
+            }
+            Ok(())
+        }
+        Command::Scene { name, scene_seed } => {
+            print!("{}", builtin_scene(&name, scene_seed)?.to_toml());
+            Ok(())
+        }
+    }
+}
+
+/// The scene chosen by `--scene` / `--scene-file`.
+pub fn load_scene(args: &RenderArgs) -> Result<SceneFile, Error> {
+    match &args.scene_file {
+        Some(path) => {
+            let text = std::fs::read_to_string(path).map_err(|e| {
+                Error::new(format!("cannot read scene file '{}': {}", path.display(), e.kind()))
+            })?;
+            SceneFile::parse(&text, &path.display().to_string())
+        }
+        None => builtin_scene(&args.scene, args.scene_seed),
+    }
+}
+
+fn render_command(args: &RenderArgs) -> Result<(), Error> {
+    let scene = load_scene(args)?;
+    let height = match args.height {
+        Some(h) => h,
+        None => default_height(args.width, scene.camera.aspect)?,
+    };
+    let settings =
+        RenderSettings { width: args.width, height, spp: args.spp, max_depth: args.depth, seed: args.seed };
+    let threads = args.threads.map_or_else(default_threads, |t| t as usize);
+    let output = PendingOutput::create(&args.out)?; // fail fast, before the long part
+    let job = RenderJob::new(scene.to_scene(), settings);
+
+    let bar = progress_bar(settings.width as u64 * settings.height as u64);
+    let start = Instant::now();
+    let rendered = render(&job, &PerSample { seed: settings.seed }, args.mode, threads, &|n| bar.inc(n));
+    let seconds = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    output.write(&rendered.image)?;
+
+    let threads_used = if args.mode == Schedule::Serial { 1 } else { threads };
+    let mode = args.mode.to_possible_value().map_or_else(String::new, |v| v.get_name().to_owned());
+    eprintln!(
+        "{}x{}, {} spp, depth {}, mode {mode}, {threads_used} threads: {seconds:.3} s, {} rays, {:.2} Mrays/s -> {}",
+        settings.width,
+        settings.height,
+        settings.spp,
+        settings.max_depth,
+        rendered.rays,
+        rendered.rays as f64 / seconds / 1e6,
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// The height that gives `aspect` (width ÷ height) at `width`, at least 1 pixel.
+pub fn default_height(width: u32, aspect: f64) -> Result<u32, Error> {
+    let h = (width as f64 / aspect).round().max(1.0);
+    if h > MAX_SIDE as f64 {
+        return Err(Error::new(format!(
+            "height {h} (width ÷ camera.aspect) is above {MAX_SIDE}: pass --height"
+        )));
+    }
+    Ok(h as u32)
+}
+
+fn default_threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// A bar on stderr when it is a terminal; hidden (and free) otherwise.
+fn progress_bar(pixels: u64) -> ProgressBar {
+    if !std::io::stderr().is_terminal() {
+        return ProgressBar::with_draw_target(Some(pixels), ProgressDrawTarget::hidden());
+    }
+    let bar = ProgressBar::new(pixels);
+    if let Ok(style) = ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {percent:>3}% eta {eta}") {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}

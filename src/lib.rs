@@ -1,0 +1,42 @@
+//! raypool: the ray tracer of *Ray Tracing in One Weekend*, written to study parallelism.
+//!
+//! Read it in the book's order:
+//!
+//! | module | what it holds |
+//! |---|---|
+//! | [`real`] | `Real` (f32, or f64 with the `f64` feature) and `Vec3` |
+//! | [`ray`] | `Ray`: origin + t·dir, unit dir |
+//! | [`sphere`] | the robust ray–sphere test and `Hit` |
+//! | [`material`] | lambertian, metal, dielectric as one `enum` |
+//! | [`camera`] | the thin-lens camera |
+//! | [`background`] | what escaping rays see |
+//! | [`scene`] | the render-ready scene |
+//! | [`scene_file`] | the TOML scene format |
+//! | [`builtin`] | the built-in scenes (paper figures, the book's final scene) |
+//! | [`sampler`] | one random stream per pixel sample |
+//! | [`render`] | `render_tile`, the one render loop |
+//! | [`schedule`] | who renders which tile |
+//! | [`image`], [`output`] | the frame buffer and PNG/PPM/PFM files |
+//! | [`cli`] | the `raypool` command |
+
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod background;
+pub mod builtin;
+pub mod camera;
+pub mod cli;
+pub mod error;
+pub mod image;
+pub mod material;
+pub mod output;
+pub mod ray;
+pub mod real;
+pub mod render;
+pub mod sampler;
+pub mod scene;
+pub mod scene_file;
+pub mod schedule;
+pub mod sphere;
+
+pub use error::Error;

@@ -1,0 +1,98 @@
+//! Materials: how a surface turns an incoming ray into a scattered one (or absorbs it).
+//!
+//! An `enum`, not a trait object: a material is 16 bytes of data, matching on it costs a
+//! predictable branch, and a scene without glass never executes a line of the glass code.
+//! Every scattered direction is a unit vector and every attenuation is finite.
+
+use rand::Rng;
+
+use crate::real::{Real, Vec3};
+use crate::sampler::{random_unit_vector, uniform};
+use crate::sphere::Hit;
+
+/// A surface's material, as in *Ray Tracing in One Weekend*.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Material {
+    /// Ideal diffuse: scatters around the normal with a cosine distribution.
+    Lambertian {
+        /// Fraction of light reflected, per channel.
+        albedo: Vec3,
+    },
+    /// A mirror blurred by `fuzz` (0 = perfect mirror; values above 1 act as 1).
+    Metal {
+        /// Fraction of light reflected, per channel.
+        albedo: Vec3,
+        /// Radius of the sphere the reflected direction is jittered within.
+        fuzz: Real,
+    },
+    /// Clear glass-like material: reflects or refracts by Snell's law and Schlick's Fresnel.
+    Dielectric {
+        /// Refractive index relative to the surrounding medium (glass ≈ 1.5).
+        ior: Real,
+    },
+}
+
+/// A scattered ray's direction and how much of the light it carries back.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scatter {
+    /// Per-channel factor applied to the light arriving along `direction`.
+    pub attenuation: Vec3,
+    /// Unit direction of the scattered ray.
+    pub direction: Vec3,
+}
+
+impl Material {
+    /// Scatters a ray arriving along the unit vector `incoming` at `hit`; `None` = absorbed.
+    pub fn scatter<R: Rng + ?Sized>(&self, incoming: Vec3, hit: &Hit, rng: &mut R) -> Option<Scatter> {
+        match *self {
+            Material::Lambertian { albedo } => {
+                let direction = (hit.normal + random_unit_vector(rng))
+                    .try_normalize()
+                    // The random vector can cancel the normal: fall back to the normal itself.
+                    .unwrap_or(hit.normal);
+                Some(Scatter { attenuation: albedo, direction })
+            }
+            Material::Metal { albedo, fuzz } => {
+                let mirror = reflect(incoming, hit.normal);
+                let fuzzed = mirror + fuzz.min(1.0) * random_unit_vector(rng);
+                let direction = fuzzed.try_normalize()?;
+                // Fuzz can push the ray below the surface: the book absorbs it.
+                (direction.dot(hit.normal) > 0.0).then_some(Scatter { attenuation: albedo, direction })
+            }
+            Material::Dielectric { ior } => {
+                let ratio = if hit.front_face { 1.0 / ior } else { ior };
+                let cos_theta = (-incoming).dot(hit.normal).min(1.0);
+                let direction = match refract(incoming, hit.normal, ratio) {
+                    Some(refracted) if schlick(cos_theta, ratio) <= uniform(rng) => refracted,
+                    // Total internal reflection, or the Fresnel coin chose reflection.
+                    _ => reflect(incoming, hit.normal),
+                };
+                Some(Scatter { attenuation: Vec3::ONE, direction })
+            }
+        }
+    }
+}
+
+/// Mirror reflection of `v` about the unit normal `n`: `v − 2(v·n)n`.
+pub fn reflect(v: Vec3, n: Vec3) -> Vec3 {
+    v - 2.0 * v.dot(n) * n
+}
+
+/// Refraction of the unit vector `v` through a surface with unit normal `n` (facing `v`'s
+/// origin side), with `eta_ratio = η / η′`. `None` on total internal reflection.
+pub fn refract(v: Vec3, n: Vec3, eta_ratio: Real) -> Option<Vec3> {
+    let cos_theta = (-v).dot(n).min(1.0);
+    let perp = eta_ratio * (v + cos_theta * n);
+    let k = 1.0 - perp.length_squared();
+    if k < 0.0 {
+        return None;
+    }
+    Some((perp - k.sqrt() * n).normalize())
+}
+
+/// Schlick's approximation of the Fresnel reflectance, in `[0, 1]`.
+pub fn schlick(cosine: Real, eta_ratio: Real) -> Real {
+    let r0 = ((1.0 - eta_ratio) / (1.0 + eta_ratio)).powi(2);
+    let m = (1.0 - cosine).clamp(0.0, 1.0);
+    r0 + (1.0 - r0) * m.powi(5)
+}

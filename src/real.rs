@@ -1,0 +1,43 @@
+//! The renderer's scalar and vector types.
+//!
+//! Everything numeric in the renderer is written against [`Real`] and [`Vec3`], so one cargo
+//! feature (`f64`) switches the whole tracer between single and double precision for accuracy
+//! comparisons. f32 is the default: it is twice as dense in cache and SIMD registers, and the
+//! robust intersection code (see `sphere.rs`) makes it accurate enough for every built-in scene.
+
+#[cfg(not(feature = "f64"))]
+mod precision {
+    /// The renderer's scalar type (`f32`; `f64` with the `f64` feature).
+    pub type Real = f32;
+    /// The renderer's 3-vector: points, directions and linear RGB colours.
+    pub type Vec3 = glam::Vec3A;
+    pub use std::f32::consts;
+}
+
+#[cfg(feature = "f64")]
+mod precision {
+    /// The renderer's scalar type (`f64` with the `f64` feature).
+    pub type Real = f64;
+    /// The renderer's 3-vector: points, directions and linear RGB colours.
+    pub type Vec3 = glam::DVec3;
+    pub use std::f64::consts;
+}
+
+pub use precision::{Real, Vec3, consts};
+
+/// Converts a scene file's `[x, y, z]` (always f64 on disk) to a [`Vec3`].
+pub fn vec3(v: [f64; 3]) -> Vec3 {
+    Vec3::new(v[0] as Real, v[1] as Real, v[2] as Real)
+}
+
+/// `x` as f32 (a no-op in the default build; rounds with the `f64` feature).
+#[allow(clippy::unnecessary_cast)]
+pub fn to_f32(x: Real) -> f32 {
+    x as f32
+}
+
+/// `x` as f64 (exact in both builds).
+#[allow(clippy::unnecessary_cast)]
+pub fn to_f64(x: Real) -> f64 {
+    x as f64
+}

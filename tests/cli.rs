@@ -1,0 +1,151 @@
+//! The `raypool` command: good runs write complete files, bad input exits 2 with one line
+//! and leaves no file behind.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn raypool(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(dir).output().expect("raypool runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("raypool-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+const SMALL: &[&str] = &["--width", "24", "--spp", "2", "--depth", "8"];
+
+fn render(dir: &Path, extra: &[&str]) -> Output {
+    let mut args = vec!["render"];
+    args.extend_from_slice(SMALL);
+    args.extend_from_slice(extra);
+    raypool(&args, dir)
+}
+
+#[test]
+fn render_writes_each_format_and_prints_a_summary() {
+    let dir = scratch("formats");
+    for name in ["a.png", "a.ppm", "a.pfm"] {
+        let out = render(&dir, &["--scene", "paper1", "--out", name]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let summary = String::from_utf8_lossy(&out.stderr);
+        assert!(summary.contains("24x16, 2 spp") && summary.contains("Mrays/s"), "{summary}");
+    }
+    assert_eq!(files_in(&dir), ["a.pfm", "a.png", "a.ppm"], "no temporary file left over");
+    let png = image::open(dir.join("a.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (24, 16), "height follows the scene's 3:2 aspect");
+}
+
+#[test]
+fn thread_count_and_mode_do_not_change_the_bytes() {
+    let dir = scratch("threads");
+    let mut files = Vec::new();
+    for (k, (mode, threads)) in [("serial", "1"), ("static", "2"), ("static", "5")].into_iter().enumerate() {
+        let name = format!("{k}.pfm");
+        let out = render(&dir, &["--mode", mode, "--threads", threads, "--out", &name]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        files.push(std::fs::read(dir.join(name)).unwrap());
+    }
+    assert!(files.windows(2).all(|w| w[0] == w[1]));
+}
+
+#[test]
+fn printed_scene_renders_like_the_builtin() {
+    let dir = scratch("roundtrip");
+    let printed = raypool(&["scene", "final"], &dir);
+    assert!(printed.status.success());
+    std::fs::write(dir.join("final.toml"), &printed.stdout).unwrap();
+    let a = render(&dir, &["--scene", "final", "--out", "builtin.pfm"]);
+    let b = render(&dir, &["--scene-file", "final.toml", "--out", "file.pfm"]);
+    assert!(a.status.success() && b.status.success(), "{}", String::from_utf8_lossy(&b.stderr));
+    assert!(std::fs::read(dir.join("builtin.pfm")).unwrap() == std::fs::read(dir.join("file.pfm")).unwrap());
+}
+
+#[test]
+fn scenes_lists_every_builtin() {
+    let out = raypool(&["scenes"], &std::env::temp_dir());
+    let text = String::from_utf8(out.stdout).unwrap();
+    for name in ["final", "paper1", "paper2", "paper3", "three-spheres", "furnace"] {
+        assert!(text.lines().any(|l| l.starts_with(name)), "{name} missing from:\n{text}");
+    }
+}
+
+/// Asserts exit code 2, a one-line message containing `needle`, and an untouched directory.
+fn assert_rejected(dir: &Path, args: &[&str], needle: &str) {
+    let before = files_in(dir);
+    let out = raypool(args, dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?} → {stderr}");
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: not one line:\n{stderr}");
+    assert!(stderr.contains(needle), "{args:?}: '{needle}' not in: {stderr}");
+    assert!(!stderr.contains("panicked") && !stderr.contains("RUST_BACKTRACE"), "{stderr}");
+    assert_eq!(files_in(dir), before, "{args:?} left a file behind");
+}
+
+#[test]
+fn bad_flags_exit_2_with_one_line() {
+    let dir = scratch("flags");
+    let r = |extra: &[&str], needle: &str| {
+        let mut args = vec!["render", "--out", "x.png"];
+        args.extend_from_slice(extra);
+        assert_rejected(&dir, &args, needle);
+    };
+    r(&["--width", "0"], "--width");
+    r(&["--width", "16385"], "--width");
+    r(&["--height", "0"], "--height");
+    r(&["--spp", "0"], "--spp");
+    r(&["--depth", "0"], "--depth");
+    r(&["--threads", "0"], "--threads");
+    r(&["--width", "ten"], "--width");
+    r(&["--mode", "turbo"], "turbo");
+    r(&["--scene", "nosuch"], "unknown scene 'nosuch'");
+    r(&["--scene", "final", "--scene-file", "a.toml"], "--scene-file");
+    r(&["--frobnicate"], "--frobnicate");
+    assert_rejected(&dir, &["scene", "nosuch"], "unknown scene");
+    assert_rejected(&dir, &["paint"], "paint");
+}
+
+#[test]
+fn bad_outputs_exit_2_and_leave_no_file() {
+    let dir = scratch("outputs");
+    let r =
+        |out: &str, needle: &str| assert_rejected(&dir, &["render", "--width", "8", "--out", out], needle);
+    r("picture.jpg", "picture.jpg");
+    r("picture", ".png, .ppm or .pfm");
+    r("no/such/dir/x.png", "no/such/dir/x.png");
+    std::fs::create_dir(dir.join("taken.png")).unwrap();
+    let before = files_in(&dir);
+    let out = raypool(&["render", "--width", "8", "--spp", "1", "--out", "taken.png"], &dir);
+    assert_eq!(out.status.code(), Some(2), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(files_in(&dir), before, "the failed rename left its temporary file");
+}
+
+#[test]
+fn bad_scene_files_exit_2_with_location() {
+    let dir = scratch("scenes");
+    let good = String::from_utf8(raypool(&["scene", "paper1"], &dir).stdout).unwrap();
+    let cases = [
+        ("syntax.toml", good.replacen("radius = 100.0", "radius = = 100.0", 1), "syntax.toml:"),
+        ("kind.toml", good.replacen("\"metal\"", "\"chrome\"", 1), "chrome"),
+        ("nan.toml", good.replacen("radius = 100.0", "radius = nan", 1), "radius"),
+        ("zero.toml", good.replacen("radius = 100.0", "radius = 0.0", 1), "radius"),
+        ("extra.toml", good.replacen("[camera]", "[camera]\nzoom = 3.0", 1), "zoom"),
+    ];
+    for (name, text, needle) in cases {
+        assert_ne!(text, good, "{name}: the test's edit did not apply");
+        std::fs::write(dir.join(name), text).unwrap();
+        assert_rejected(&dir, &["render", "--scene-file", name, "--out", "x.png"], needle);
+    }
+    assert_rejected(&dir, &["render", "--scene-file", "missing.toml", "--out", "x.png"], "missing.toml");
+}

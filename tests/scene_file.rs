@@ -1,0 +1,104 @@
+//! The TOML scene format: round trips, named materials, and precise error messages.
+
+use raypool::builtin::{BUILTINS, builtin_scene};
+use raypool::material::Material;
+use raypool::scene_file::SceneFile;
+
+const MINIMAL: &str = r#"
+[camera]
+lookfrom = [0.0, 0.0, 5.0]
+lookat = [0.0, 0.0, 0.0]
+vup = [0.0, 1.0, 0.0]
+vfov = 40.0
+focus_dist = 5.0
+
+[materials]
+gold = { kind = "metal", albedo = [0.8, 0.6, 0.2], fuzz = 0.1 }
+
+[[sphere]]
+center = [0.0, 0.0, 0.0]
+radius = 1.0
+material = "gold"
+
+[[sphere]]
+center = [0.0, -101.0, 0.0]
+radius = 100.0
+material = { kind = "lambertian", albedo = [0.5, 0.5, 0.5] }
+"#;
+
+#[test]
+fn every_builtin_round_trips_through_toml() {
+    for b in BUILTINS {
+        let scene = builtin_scene(b.name, 77).unwrap();
+        let text = scene.to_toml();
+        let again =
+            SceneFile::parse(&text, "round-trip").unwrap_or_else(|e| panic!("{}: {e}\n{text}", b.name));
+        assert_eq!(again, scene, "{} changed in the round trip", b.name);
+    }
+}
+
+#[test]
+fn final_scene_is_the_books_and_depends_on_its_seed() {
+    let a = builtin_scene("final", 1).unwrap();
+    let b = builtin_scene("final", 2).unwrap();
+    assert_ne!(a, b);
+    // 1 ground + up to 22 × 22 small + 3 big spheres; a few are skipped near the metal one.
+    assert!((450..=488).contains(&a.spheres.len()), "{} spheres", a.spheres.len());
+    assert_eq!(builtin_scene("final", 1).unwrap(), a, "same seed, same scene");
+}
+
+#[test]
+fn named_and_inline_materials_resolve() {
+    let scene = SceneFile::parse(MINIMAL, "minimal.toml").unwrap().to_scene();
+    assert_eq!(scene.spheres.len(), 2);
+    assert!(matches!(scene.materials[scene.spheres[0].material as usize], Material::Metal { .. }));
+    assert!(matches!(scene.materials[scene.spheres[1].material as usize], Material::Lambertian { .. }));
+    assert_eq!(scene.camera.aperture, 0.0, "aperture defaults to a pinhole");
+    assert_eq!(scene.camera.aspect, 1.5, "aspect defaults to 3:2");
+}
+
+fn error_of(text: &str) -> String {
+    SceneFile::parse(text, "bad.toml").unwrap_err().to_string()
+}
+
+#[test]
+fn syntax_errors_name_file_line_and_column() {
+    let text = MINIMAL.replace("radius = 1.0", "radius = 1.0.0");
+    let e = error_of(&text);
+    assert!(e.starts_with("bad.toml:14:13:"), "{e}");
+    assert!(!e.contains('\n'), "one line: {e}");
+}
+
+#[test]
+fn unknown_material_kind_is_named() {
+    let e = error_of(&MINIMAL.replace("\"lambertian\"", "\"plastic\""));
+    assert!(e.starts_with("bad.toml:20:") && e.contains("plastic") && e.contains("lambertian"), "{e}");
+}
+
+#[test]
+fn missing_and_unknown_fields_are_reported() {
+    let e = error_of(&MINIMAL.replace("vfov = 40.0\n", ""));
+    assert!(e.contains("vfov"), "{e}");
+    let e = error_of(&MINIMAL.replace("vfov = 40.0", "vfov = 40.0\nzoom = 2.0"));
+    assert!(e.contains("zoom") && e.starts_with("bad.toml:7:"), "{e}");
+}
+
+#[test]
+fn semantic_errors_name_the_item() {
+    let cases = [
+        (MINIMAL.replace("radius = 1.0", "radius = 0.0"), "sphere #1"),
+        (MINIMAL.replace("radius = 1.0", "radius = nan"), "radius"),
+        (MINIMAL.replace("vfov = 40.0", "vfov = 180.0"), "vfov"),
+        (MINIMAL.replace("focus_dist = 5.0", "focus_dist = -1.0"), "focus_dist"),
+        (MINIMAL.replace("lookat = [0.0, 0.0, 0.0]", "lookat = [0.0, 0.0, 5.0]"), "same point"),
+        (MINIMAL.replace("vup = [0.0, 1.0, 0.0]", "vup = [0.0, 0.0, 1.0]"), "vup"),
+        (MINIMAL.replace("material = \"gold\"", "material = \"silver\""), "silver"),
+        (MINIMAL.replace("fuzz = 0.1", "fuzz = inf"), "fuzz"),
+        (MINIMAL.replace("[0.8, 0.6, 0.2]", "[0.8, nan, 0.2]"), "materials.gold"),
+        (MINIMAL.replace("center = [0.0, 0.0, 0.0]", "center = [0.0, -inf, 0.0]"), "center"),
+    ];
+    for (text, needle) in cases {
+        let e = error_of(&text);
+        assert!(e.contains(needle) && e.starts_with("bad.toml: "), "expected '{needle}' in: {e}");
+    }
+}
