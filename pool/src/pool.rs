@@ -1,0 +1,264 @@
+//! The pool itself: building it, submitting fire-and-forget jobs, reading its statistics,
+//! and shutting it down.
+//!
+//! Lifetime: `build` starts every worker at once (named `pool-worker-0`, `pool-worker-1`,
+//! …); they live exactly as long as the `ThreadPool`. Dropping the pool closes the queue,
+//! lets the workers run every job already queued, and joins them: when `drop` returns, no
+//! worker thread is left.
+
+use std::fmt;
+use std::sync::Arc;
+use std::thread::{self, JoinHandle};
+use std::time::Instant;
+
+use crate::locked::LockedQueue;
+use crate::queue::{Discipline, Job, JobQueue};
+use crate::shared::SharedQueue;
+use crate::stats::{JobSpan, PoolStats, WorkerCounters};
+use crate::steal::StealQueue;
+use crate::worker::Registry;
+
+/// A fixed set of worker threads running jobs from a queue.
+///
+/// ```
+/// use pool::{Discipline, ThreadPool};
+/// let pool = ThreadPool::new(4, Discipline::Shared).unwrap();
+/// assert_eq!(pool.workers(), 4);
+/// let total: u64 = pool.batch((1..=100u64).map(|i| move || i)).into_iter().sum();
+/// assert_eq!(total, 5050);
+/// ```
+pub struct ThreadPool {
+    pub(crate) registry: Arc<Registry>,
+    threads: Vec<JoinHandle<()>>,
+    discipline: Discipline,
+}
+
+/// Why a pool could not be built.
+///
+/// ```
+/// use pool::{BuildError, Discipline, ThreadPool};
+/// assert!(matches!(ThreadPool::new(0, Discipline::Shared), Err(BuildError::NoWorkers)));
+/// ```
+#[derive(Debug)]
+pub enum BuildError {
+    /// A pool needs at least one worker (zero would accept jobs and never run them).
+    NoWorkers,
+    /// The operating system refused to start a thread.
+    Spawn(std::io::Error),
+}
+
+impl fmt::Display for BuildError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BuildError::NoWorkers => f.write_str("a thread pool needs at least one worker"),
+            BuildError::Spawn(e) => write!(f, "cannot start a worker thread: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for BuildError {}
+
+/// Configures a [`ThreadPool`]: worker count, queue discipline, instrumentation.
+///
+/// ```
+/// use pool::{Discipline, ThreadPool};
+/// let pool = ThreadPool::builder().workers(2).discipline(Discipline::Locked).instrument(true).build().unwrap();
+/// assert_eq!(pool.discipline(), Discipline::Locked);
+/// ```
+#[derive(Clone, Debug)]
+pub struct Builder {
+    workers: usize,
+    discipline: Discipline,
+    instrument: bool,
+}
+
+impl Builder {
+    /// Number of worker threads (default: the machine's available parallelism).
+    ///
+    /// ```
+    /// assert_eq!(pool::ThreadPool::builder().workers(3).build().unwrap().workers(), 3);
+    /// ```
+    pub fn workers(mut self, workers: usize) -> Builder {
+        self.workers = workers;
+        self
+    }
+
+    /// Queue discipline (default: [`Discipline::Shared`]).
+    ///
+    /// ```
+    /// use pool::{Discipline, ThreadPool};
+    /// let pool = ThreadPool::builder().discipline(Discipline::Stealing).build().unwrap();
+    /// assert_eq!(pool.discipline(), Discipline::Stealing);
+    /// ```
+    pub fn discipline(mut self, discipline: Discipline) -> Builder {
+        self.discipline = discipline;
+        self
+    }
+
+    /// Time every job and keep a [`JobSpan`] per job (default: off; costs two clock reads
+    /// per job).
+    ///
+    /// ```
+    /// let pool = pool::ThreadPool::builder().workers(1).instrument(true).build().unwrap();
+    /// pool.batch([|| std::thread::sleep(std::time::Duration::from_millis(5))]);
+    /// assert!(pool.stats().workers[0].busy.as_millis() >= 5);
+    /// ```
+    pub fn instrument(mut self, on: bool) -> Builder {
+        self.instrument = on;
+        self
+    }
+
+    /// Starts the workers.
+    ///
+    /// # Errors
+    /// [`BuildError::NoWorkers`] for zero workers; [`BuildError::Spawn`] if a thread cannot
+    /// be started (the workers already started are shut down again).
+    ///
+    /// ```
+    /// assert!(pool::ThreadPool::builder().workers(0).build().is_err());
+    /// ```
+    pub fn build(self) -> Result<ThreadPool, BuildError> {
+        if self.workers == 0 {
+            return Err(BuildError::NoWorkers);
+        }
+        let queue: Box<dyn JobQueue> = match self.discipline {
+            Discipline::Shared => Box::new(SharedQueue::new()),
+            Discipline::Locked => Box::new(LockedQueue::new()),
+            Discipline::Stealing => Box::new(StealQueue::new(self.workers)),
+        };
+        let registry = Arc::new(Registry {
+            queue,
+            counters: (0..self.workers).map(|_| WorkerCounters::default()).collect(),
+            instrument: self.instrument,
+            epoch: Instant::now(),
+        });
+        let mut pool =
+            ThreadPool { registry, threads: Vec::with_capacity(self.workers), discipline: self.discipline };
+        for me in 0..self.workers {
+            let registry = Arc::clone(&pool.registry);
+            let thread = thread::Builder::new()
+                .name(format!("pool-worker-{me}"))
+                .spawn(move || registry.main_loop(me));
+            // On failure, dropping `pool` shuts down the workers started so far.
+            pool.threads.push(thread.map_err(BuildError::Spawn)?);
+        }
+        Ok(pool)
+    }
+}
+
+impl ThreadPool {
+    /// A pool of `workers` threads with the given queue discipline, not instrumented.
+    ///
+    /// # Errors
+    /// See [`Builder::build`].
+    ///
+    /// ```
+    /// let pool = pool::ThreadPool::new(2, pool::Discipline::Shared).unwrap();
+    /// assert_eq!(pool.workers(), 2);
+    /// ```
+    pub fn new(workers: usize, discipline: Discipline) -> Result<ThreadPool, BuildError> {
+        ThreadPool::builder().workers(workers).discipline(discipline).build()
+    }
+
+    /// A [`Builder`] with the defaults.
+    ///
+    /// ```
+    /// let pool = pool::ThreadPool::builder().build().unwrap();
+    /// assert!(pool.workers() >= 1);
+    /// ```
+    pub fn builder() -> Builder {
+        let workers = thread::available_parallelism().map_or(1, |n| n.get());
+        Builder { workers, discipline: Discipline::default(), instrument: false }
+    }
+
+    /// Runs `job` on some worker, some time; its result and panic go nowhere (a panic is
+    /// counted in [`WorkerStats::panics`](crate::WorkerStats::panics)). Use
+    /// [`ThreadPool::batch`] to wait for results.
+    ///
+    /// ```
+    /// use std::sync::mpsc;
+    /// let pool = pool::ThreadPool::new(2, pool::Discipline::Locked).unwrap();
+    /// let (tx, rx) = mpsc::channel();
+    /// pool.spawn(move || tx.send(6 * 7).unwrap());
+    /// assert_eq!(rx.recv().unwrap(), 42);
+    /// ```
+    pub fn spawn<F: FnOnce() + Send + 'static>(&self, job: F) {
+        let me = self.registry.current_worker();
+        self.registry.queue.push(Job::detached(job), me);
+    }
+
+    /// Number of worker threads.
+    ///
+    /// ```
+    /// assert_eq!(pool::ThreadPool::new(5, pool::Discipline::Stealing).unwrap().workers(), 5);
+    /// ```
+    pub fn workers(&self) -> usize {
+        self.registry.counters.len()
+    }
+
+    /// The queue discipline chosen at construction.
+    ///
+    /// ```
+    /// use pool::{Discipline, ThreadPool};
+    /// assert_eq!(ThreadPool::new(1, Discipline::Locked).unwrap().discipline(), Discipline::Locked);
+    /// ```
+    pub fn discipline(&self) -> Discipline {
+        self.discipline
+    }
+
+    /// A snapshot of every worker's counters.
+    ///
+    /// ```
+    /// let pool = pool::ThreadPool::new(2, pool::Discipline::Shared).unwrap();
+    /// pool.batch((0..10).map(|_| || ()));
+    /// assert_eq!(pool.stats().total_jobs(), 10);
+    /// ```
+    pub fn stats(&self) -> PoolStats {
+        PoolStats { workers: self.registry.counters.iter().map(WorkerCounters::snapshot).collect() }
+    }
+
+    /// Takes the job spans recorded so far (empty unless instrumented), sorted by start.
+    ///
+    /// ```
+    /// let pool = pool::ThreadPool::builder().workers(2).instrument(true).build().unwrap();
+    /// pool.batch((0..6).map(|_| || ()));
+    /// assert_eq!(pool.take_trace().len(), 6);
+    /// assert!(pool.take_trace().is_empty(), "taken");
+    /// ```
+    pub fn take_trace(&self) -> Vec<JobSpan> {
+        let mut spans: Vec<JobSpan> =
+            self.registry.counters.iter().flat_map(WorkerCounters::take_spans).collect();
+        spans.sort_by_key(|s| (s.start, s.worker));
+        spans
+    }
+
+    /// Zeroes every counter and forgets recorded spans (e.g. between benchmark runs).
+    ///
+    /// ```
+    /// let pool = pool::ThreadPool::new(1, pool::Discipline::Shared).unwrap();
+    /// pool.batch([|| ()]);
+    /// pool.reset_stats();
+    /// assert_eq!(pool.stats().total_jobs(), 0);
+    /// ```
+    pub fn reset_stats(&self) {
+        self.registry.counters.iter().for_each(WorkerCounters::reset);
+    }
+}
+
+impl Drop for ThreadPool {
+    /// Closes the queue, lets the workers finish every queued job, and joins them.
+    ///
+    /// If the last owner of the pool is dropped *inside one of its own jobs* (e.g. an
+    /// `Arc<ThreadPool>` moved into a job), that worker cannot join itself: it is left to
+    /// exit on its own as soon as the job returns.
+    fn drop(&mut self) {
+        self.registry.queue.close();
+        let me = thread::current().id();
+        for thread in self.threads.drain(..) {
+            if thread.thread().id() != me {
+                // A worker's loop catches job panics, so join fails only on a pool bug.
+                thread.join().expect("a pool worker died");
+            }
+        }
+    }
+}
