@@ -17,6 +17,7 @@
 //! | [`render`] | `render_tile`, the one render loop |
 //! | [`schedule`] | who renders which tile |
 //! | [`image`], [`output`] | the frame buffer and PNG/PPM/PFM files |
+//! | [`machine`] | names the machine, commit and date of a measurement |
 //! | [`cli`] | the `raypool` command |
 
 #![forbid(unsafe_code)]
@@ -28,6 +29,7 @@ pub mod camera;
 pub mod cli;
 pub mod error;
 pub mod image;
+pub mod machine;
 pub mod material;
 pub mod output;
 pub mod ray;

@@ -1,0 +1,50 @@
+//! Which machine, commit and day a measurement was made on: every committed figure says so.
+
+use std::process::Command;
+
+/// A description of where and when a benchmark ran.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Machine {
+    /// Logical CPUs available to this process (`nproc`).
+    pub cpus: usize,
+    /// CPU model name from `/proc/cpuinfo` ("unknown" elsewhere).
+    pub cpu_model: String,
+    /// UTC date, `YYYY-MM-DD`.
+    pub date: String,
+    /// Short git commit of the working tree, `+dirty` if it has uncommitted changes.
+    pub commit: String,
+}
+
+impl Machine {
+    /// Reads the current machine, date and commit.
+    pub fn current() -> Machine {
+        let cpu_model = std::fs::read_to_string("/proc/cpuinfo")
+            .ok()
+            .and_then(|text| {
+                text.lines()
+                    .find(|l| l.starts_with("model name"))
+                    .and_then(|l| l.split(':').nth(1))
+                    .map(|m| m.trim().to_owned())
+            })
+            .unwrap_or_else(|| "unknown".into());
+        let commit = command("git", &["rev-parse", "--short", "HEAD"]).unwrap_or_else(|| "unknown".into());
+        let dirty =
+            command("git", &["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+        Machine {
+            cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            cpu_model,
+            date: command("date", &["-u", "+%Y-%m-%d"]).unwrap_or_else(|| "unknown".into()),
+            commit: if dirty { format!("{commit}+dirty") } else { commit },
+        }
+    }
+
+    /// One Markdown line: `nproc 2, AMD EPYC, commit abc1234, 2026-11-22`.
+    pub fn describe(&self) -> String {
+        format!("nproc {}, {}, commit {}, {}", self.cpus, self.cpu_model, self.commit, self.date)
+    }
+}
+
+fn command(program: &str, args: &[&str]) -> Option<String> {
+    let out = Command::new(program).args(args).output().ok()?;
+    out.status.success().then(|| String::from_utf8_lossy(&out.stdout).trim().to_owned())
+}
