@@ -135,7 +135,7 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
     let threads_used = if args.mode == Schedule::Serial { 1 } else { threads };
     let mode = args.mode.to_possible_value().map_or_else(String::new, |v| v.get_name().to_owned());
     eprintln!(
-        "{}x{}, {} spp, depth {}, mode {mode}, {threads_used} threads: {seconds:.3} s, {} rays, {:.2} Mrays/s -> {}",
+        "{}x{}, {} spp, depth {}, mode {mode}, threads {threads_used}: {seconds:.3} s, {} rays, {:.2} Mrays/s -> {}",
         settings.width,
         settings.height,
         settings.spp,

@@ -10,6 +10,7 @@
 //! | [`material`] | lambertian, metal, dielectric as one `enum` |
 //! | [`camera`] | the thin-lens camera |
 //! | [`background`] | what escaping rays see |
+//! | [`bvh`] | the bounding volume hierarchy for large scenes |
 //! | [`scene`] | the render-ready scene |
 //! | [`scene_file`] | the TOML scene format |
 //! | [`builtin`] | the built-in scenes (paper figures, the book's final scene) |
@@ -25,6 +26,7 @@
 
 pub mod background;
 pub mod builtin;
+pub mod bvh;
 pub mod camera;
 pub mod cli;
 pub mod error;

@@ -270,7 +270,7 @@ impl SceneFile {
             }
             BackgroundSpec::Constant { color } => Background::Constant { color: vec3(color) },
         };
-        Scene { spheres, materials, background, camera: self.camera.clone() }
+        Scene::new(spheres, materials, background, self.camera.clone())
     }
 }
 

@@ -26,7 +26,7 @@ fn furnace_sphere_renders_its_albedo_and_the_sky_renders_white() {
     let scene = builtin_scene("furnace", 0).unwrap().to_scene();
     let job = RenderJob::new(scene.clone(), settings);
     let out = render(&job, &PerSample { seed: 9 }, Schedule::Serial, 1, &|_| {});
-    let sphere = scene.spheres[0];
+    let sphere = scene.spheres()[0];
     let (mut inside, mut outside) = (0, 0);
     for j in 0..48 {
         for i in 0..48 {

@@ -50,9 +50,10 @@ fn final_scene_is_the_books_and_depends_on_its_seed() {
 #[test]
 fn named_and_inline_materials_resolve() {
     let scene = SceneFile::parse(MINIMAL, "minimal.toml").unwrap().to_scene();
-    assert_eq!(scene.spheres.len(), 2);
-    assert!(matches!(scene.materials[scene.spheres[0].material as usize], Material::Metal { .. }));
-    assert!(matches!(scene.materials[scene.spheres[1].material as usize], Material::Lambertian { .. }));
+    let (spheres, materials) = (scene.spheres(), scene.materials());
+    assert_eq!(spheres.len(), 2);
+    assert!(matches!(materials[spheres[0].material as usize], Material::Metal { .. }));
+    assert!(matches!(materials[spheres[1].material as usize], Material::Lambertian { .. }));
     assert_eq!(scene.camera.aperture, 0.0, "aperture defaults to a pinhole");
     assert_eq!(scene.camera.aspect, 1.5, "aspect defaults to 3:2");
 }
