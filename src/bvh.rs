@@ -180,7 +180,7 @@ fn choose_split(spheres: &mut [Sphere], bounds: &Aabb) -> Option<(usize, usize)>
     let (low, width) = (centroids.min[axis], extent[axis]);
     if width <= 0.0 {
         // Every centre coincides: nothing separates them. Fine unless the leaf is huge.
-        return (n > MAX_LEAF * 4).then(|| (axis, n / 2));
+        return (n > MAX_LEAF * 4).then_some((axis, n / 2));
     }
     let bin_of = |s: &Sphere| (((s.center[axis] - low) / width * BINS as Real) as usize).min(BINS - 1);
     let mut bins = [(Aabb::EMPTY, 0usize); BINS];
