@@ -3,6 +3,7 @@
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Instant;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -10,9 +11,10 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::error::Error;
+use crate::frame::{Frame, RngSource};
 use crate::output::PendingOutput;
 use crate::render::{RenderJob, RenderSettings};
-use crate::sampler::PerSample;
+use crate::sampler::{PerSample, SharedRng};
 use crate::scene_file::SceneFile;
 use crate::schedule::{Schedule, render};
 
@@ -75,13 +77,34 @@ pub struct RenderArgs {
     /// Worker threads [default: the number of CPUs].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub threads: Option<u32>,
-    /// Scheduler.
-    #[arg(long, value_enum, default_value_t = Schedule::StaticBlocks)]
+    /// Scheduler: serial, static (T blocks of rows), interleaved (row r to thread r mod T),
+    /// pool-rows (a job per row, shared queue), pool (tiles, shared queue), steal (tiles,
+    /// work stealing).
+    #[arg(long, value_enum, default_value_t = Schedule::Stealing)]
     pub mode: Schedule,
+    /// Tile side in pixels, for the tiled modes (pool, steal).
+    #[arg(long, default_value_t = DEFAULT_TILE, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
+    pub tile: u32,
+    /// Random numbers: per-sample streams (reproducible) or one generator behind a lock
+    /// shared by all threads, as the seed paper's rand() (an ablation; not reproducible).
+    #[arg(long, value_enum, default_value_t = RngChoice::PerSample)]
+    pub rng: RngChoice,
     /// Output image; the extension picks the format: .png, .ppm (P6) or .pfm (linear float).
     #[arg(long, default_value = "render.png")]
     pub out: PathBuf,
 }
+
+/// The `--rng` choices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RngChoice {
+    /// One stream per pixel sample, seeded from (seed, pixel, sample).
+    PerSample,
+    /// One generator behind a lock for all threads.
+    Shared,
+}
+
+/// Default tile side for the tiled modes, pixels.
+pub const DEFAULT_TILE: u32 = 16;
 
 /// Runs one parsed command line.
 pub fn run(cli: Cli) -> Result<(), Error> {
@@ -123,17 +146,26 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
         RenderSettings { width: args.width, height, spp: args.spp, max_depth: args.depth, seed: args.seed };
     let threads = args.threads.map_or_else(default_threads, |t| t as usize);
     let output = PendingOutput::create(&args.out)?; // fail fast, before the long part
-    let job = RenderJob::new(scene.to_scene(), settings);
-
+    let rng = match args.rng {
+        RngChoice::PerSample => RngSource::PerSample(PerSample { seed: settings.seed }),
+        RngChoice::Shared => RngSource::Shared(Arc::new(SharedRng::new(settings.seed))),
+    };
     let bar = progress_bar(settings.width as u64 * settings.height as u64);
+    let progress = {
+        let bar = bar.clone();
+        Arc::new(move |n| bar.inc(n))
+    };
+    let frame =
+        Arc::new(Frame::new(RenderJob::new(scene.to_scene(), settings), rng, threads, args.tile, progress));
+
     let start = Instant::now();
-    let rendered = render(&job, &PerSample { seed: settings.seed }, args.mode, threads, &|n| bar.inc(n));
+    let rendered = render(&frame, &args.mode);
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     output.write(&rendered.image)?;
 
     let threads_used = if args.mode == Schedule::Serial { 1 } else { threads };
-    let mode = args.mode.to_possible_value().map_or_else(String::new, |v| v.get_name().to_owned());
+    let mode = args.mode.name();
     eprintln!(
         "{}x{}, {} spp, depth {}, mode {mode}, threads {threads_used}: {seconds:.3} s, {} rays, {:.2} Mrays/s -> {}",
         settings.width,

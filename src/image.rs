@@ -15,27 +15,33 @@ pub struct Image {
 }
 
 impl Image {
-    /// Assembles tiles into an image.
-    ///
-    /// # Panics
-    /// If the tiles do not cover every pixel exactly once (a scheduler bug, never bad input).
-    pub fn from_tiles(width: u32, height: u32, tiles: impl IntoIterator<Item = TileOutput>) -> Image {
+    /// Assembles tiles into an image; an error names a pixel that the tiles leave out or
+    /// cover twice (a scheduler bug, never bad input).
+    pub fn from_tiles(width: u32, height: u32, tiles: &[TileOutput]) -> Result<Image, String> {
         let mut pixels = vec![Vec3::ZERO; width as usize * height as usize];
         let mut written = vec![false; pixels.len()];
         for out in tiles {
             let t = out.tile;
-            assert!(t.x + t.width <= width && t.y + t.height <= height, "tile {t:?} outside the image");
+            if t.x + t.width > width || t.y + t.height > height || out.pixels.len() != t.area() {
+                return Err(format!("tile {t:?} does not fit the {width}x{height} image"));
+            }
             for (row, chunk) in out.pixels.chunks_exact(t.width as usize).enumerate() {
                 let start = (t.y as usize + row) * width as usize + t.x as usize;
                 pixels[start..start + chunk.len()].copy_from_slice(chunk);
-                for w in &mut written[start..start + chunk.len()] {
-                    assert!(!*w, "pixel written twice by tile {t:?}");
-                    *w = true;
+                if let Some(k) = written[start..start + chunk.len()].iter().position(|&w| w) {
+                    return Err(format!(
+                        "pixel ({}, {}) rendered twice",
+                        t.x as usize + k,
+                        t.y as usize + row
+                    ));
                 }
+                written[start..start + chunk.len()].fill(true);
             }
         }
-        assert!(written.iter().all(|&w| w), "some pixels were never rendered");
-        Image { width, height, pixels }
+        match written.iter().position(|&w| !w) {
+            Some(k) => Err(format!("pixel ({}, {}) never rendered", k % width as usize, k / width as usize)),
+            None => Ok(Image { width, height, pixels }),
+        }
     }
 
     /// 8-bit sRGB-ish bytes (`RGBRGB…`): the book's gamma 2 (`sqrt`), clamped to [0, 1).

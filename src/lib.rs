@@ -16,7 +16,9 @@
 //! | [`builtin`] | the built-in scenes (paper figures, the book's final scene) |
 //! | [`sampler`] | one random stream per pixel sample |
 //! | [`render`] | `render_tile`, the one render loop |
-//! | [`schedule`] | who renders which tile |
+//! | [`frame`] | a render in progress: what schedulers receive |
+//! | [`schedule`] | who renders which tile: the `Scheduler` trait and six modes |
+//! | [`conformance`] | the check a student's scheduler must pass |
 //! | [`image`], [`output`] | the frame buffer and PNG/PPM/PFM files |
 //! | [`machine`] | names the machine, commit and date of a measurement |
 //! | [`cli`] | the `raypool` command |
@@ -29,7 +31,9 @@ pub mod builtin;
 pub mod bvh;
 pub mod camera;
 pub mod cli;
+pub mod conformance;
 pub mod error;
+pub mod frame;
 pub mod image;
 pub mod machine;
 pub mod material;

@@ -6,6 +6,7 @@
 //! `sampler.rs`), the image is bit-identical whatever the schedule.
 
 use crate::camera::Camera;
+use crate::frame::TileTiming;
 use crate::real::{Real, Vec3};
 use crate::sampler::RandomStreams;
 use crate::scene::Scene;
@@ -59,6 +60,8 @@ pub struct TileOutput {
     pub pixels: Vec<Vec3>,
     /// Every ray cast: camera rays and each bounce.
     pub rays: u64,
+    /// Which thread rendered it, and when (set by [`Frame::render`](crate::frame::Frame::render)).
+    pub timing: Option<TileTiming>,
 }
 
 /// Everything a tile needs, immutable for the whole render (shareable between threads).
@@ -97,7 +100,7 @@ pub fn render_tile<S: RandomStreams>(job: &RenderJob, streams: &S, tile: Tile) -
             pixels.push(sum / spp as Real);
         }
     }
-    TileOutput { tile, pixels, rays }
+    TileOutput { tile, pixels, rays, timing: None }
 }
 
 /// The radiance arriving along `ray`: the book's `ray_color`, as a loop. A path casts at

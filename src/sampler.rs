@@ -70,3 +70,58 @@ pub fn random_in_unit_disk<R: Rng + ?Sized>(rng: &mut R) -> (Real, Real) {
     let (sin, cos) = (TAU * uniform(rng)).sin_cos();
     (r * cos, r * sin)
 }
+
+/// The seed paper's random numbers: one generator shared by every thread, behind a lock (as
+/// C's `rand()` is). For the ablation only: every draw takes the lock, so threads queue on
+/// it, and which thread gets which number depends on timing, so images are not reproducible.
+///
+/// The lock is `std::sync::Mutex`, which on Linux, like glibc's lock inside `rand()`, is a
+/// futex: a contended acquisition sleeps in the kernel. (`parking_lot`'s adaptive spinning
+/// would hide part of the cost the paper ran into.)
+#[derive(Debug)]
+pub struct SharedRng {
+    generator: std::sync::Mutex<SmallRng>,
+}
+
+impl SharedRng {
+    /// One generator for the whole render, seeded with `seed`.
+    pub fn new(seed: u64) -> SharedRng {
+        SharedRng { generator: std::sync::Mutex::new(SmallRng::seed_from_u64(seed)) }
+    }
+}
+
+/// A handle that draws from the [`SharedRng`], taking its lock for every number.
+pub struct SharedStream<'a>(&'a SharedRng);
+
+impl SharedStream<'_> {
+    fn lock(&self) -> std::sync::MutexGuard<'_, SmallRng> {
+        // A draw cannot panic while holding the lock, so it is never poisoned in practice;
+        // if it were, the generator's state would still be valid.
+        self.0.generator.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+}
+
+impl rand::TryRng for SharedStream<'_> {
+    type Error = std::convert::Infallible;
+
+    fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
+        Ok(self.lock().next_u32())
+    }
+
+    fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
+        Ok(self.lock().next_u64())
+    }
+
+    fn try_fill_bytes(&mut self, dst: &mut [u8]) -> Result<(), Self::Error> {
+        self.lock().fill_bytes(dst);
+        Ok(())
+    }
+}
+
+impl RandomStreams for SharedRng {
+    type Stream<'a> = SharedStream<'a>;
+
+    fn stream(&self, _pixel: u64, _sample: u64) -> SharedStream<'_> {
+        SharedStream(self)
+    }
+}

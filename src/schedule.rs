@@ -1,77 +1,192 @@
-//! Schedulers: who renders which tile. Each is a few lines around the one `render_tile`.
+//! Schedulers: who renders which tile. Each is a few lines around [`Frame::render`]; none
+//! has a render loop of its own, and all produce the same image, bit for bit.
 //!
-//! - `serial`: the calling thread renders every row, top to bottom: the baseline.
-//! - `static`: the seed paper's "naive multithreading": the rows are cut into `threads`
-//!   contiguous blocks, one scoped thread each. Simple, but a block of sky finishes long
-//!   before a block full of glass, and its thread then sits idle.
+//! | mode | work split | balance |
+//! |---|---|---|
+//! | `serial` | one thread, rows in order | – |
+//! | `static` | `T` contiguous blocks of rows, one scoped thread each (the paper's naive split) | poor: a block of sky finishes early and its thread idles |
+//! | `interleaved` | row `r` to thread `r mod T` | good by construction, still static |
+//! | `pool-rows` | one job per row on the Shared pool (the paper's thread pool) | dynamic |
+//! | `pool` | square tiles on the Shared pool | dynamic, better cache use than rows |
+//! | `steal` | square tiles on the Stealing pool, dealt in contiguous runs | stealing rebalances |
+//!
+//! Write your own by implementing [`Scheduler`]; check it with
+//! [`conformance::check`](crate::conformance::check).
 
-use std::ops::Range;
+use std::sync::Arc;
 
+use pool::{Discipline, ThreadPool};
+
+use crate::frame::{Frame, TileTiming};
 use crate::image::Image;
-use crate::render::{RenderJob, Tile, TileOutput, render_tile};
-use crate::sampler::RandomStreams;
+use crate::render::{Tile, TileOutput};
 
-/// How the image's tiles are distributed over threads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
-pub enum Schedule {
-    /// One thread, rows in order.
-    Serial,
-    /// `threads` contiguous blocks of rows, one `std::thread::scope` thread each.
-    #[value(name = "static")]
-    StaticBlocks,
+/// A way of distributing a frame's tiles over threads.
+///
+/// The contract: call [`Frame::render`] exactly once for every pixel of the frame (through
+/// [`Frame::rows`], [`Frame::tiles`] or tiles of your own), computing on at most
+/// `frame.threads` threads, and return every [`TileOutput`] in any order.
+///
+/// ```
+/// use std::sync::Arc;
+/// use raypool::frame::Frame;
+/// use raypool::render::TileOutput;
+/// use raypool::schedule::Scheduler;
+///
+/// /// Bottom row first, on the calling thread.
+/// struct Upside;
+/// impl Scheduler for Upside {
+///     fn render(&self, frame: &Arc<Frame>) -> Vec<TileOutput> {
+///         frame.rows().into_iter().rev().map(|row| frame.render(row)).collect()
+///     }
+/// }
+/// raypool::conformance::check(&Upside, 1).unwrap();
+/// ```
+pub trait Scheduler: Sync {
+    /// Renders every pixel of `frame` once; returns the rendered tiles.
+    fn render(&self, frame: &Arc<Frame>) -> Vec<TileOutput>;
 }
 
-/// Reports progress: called with the number of pixels just finished, from any thread.
-pub type Progress<'a> = &'a (dyn Fn(u64) + Sync);
+/// The built-in schedulers (`--mode`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Schedule {
+    /// One thread, rows in order: the baseline.
+    Serial,
+    /// `T` contiguous blocks of rows, one `std::thread::scope` thread each.
+    #[value(name = "static")]
+    StaticBlocks,
+    /// Row `r` to thread `r mod T`, scoped threads.
+    Interleaved,
+    /// One job per row on a Shared-queue pool.
+    #[value(name = "pool-rows")]
+    PoolRows,
+    /// Square tiles on a Shared-queue pool.
+    #[value(name = "pool")]
+    PoolTiles,
+    /// Square tiles on a work-stealing pool.
+    #[value(name = "steal")]
+    Stealing,
+}
 
-/// A finished render: the image and the total number of rays cast.
+impl Schedule {
+    /// Every built-in mode, in the table's order.
+    pub const ALL: [Schedule; 6] = [
+        Schedule::Serial,
+        Schedule::StaticBlocks,
+        Schedule::Interleaved,
+        Schedule::PoolRows,
+        Schedule::PoolTiles,
+        Schedule::Stealing,
+    ];
+
+    /// The mode's `--mode` name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Schedule::Serial => "serial",
+            Schedule::StaticBlocks => "static",
+            Schedule::Interleaved => "interleaved",
+            Schedule::PoolRows => "pool-rows",
+            Schedule::PoolTiles => "pool",
+            Schedule::Stealing => "steal",
+        }
+    }
+}
+
+impl Scheduler for Schedule {
+    fn render(&self, frame: &Arc<Frame>) -> Vec<TileOutput> {
+        let t = frame.threads;
+        match self {
+            Schedule::Serial => frame.rows().into_iter().map(|row| frame.render(row)).collect(),
+            Schedule::StaticBlocks => {
+                let rows = frame.rows();
+                let per_thread = rows.len().div_ceil(t).max(1);
+                on_scoped_threads(frame, rows.chunks(per_thread).map(<[Tile]>::to_vec).collect())
+            }
+            Schedule::Interleaved => {
+                let rows = frame.rows();
+                on_scoped_threads(
+                    frame,
+                    (0..t).map(|k| rows.iter().skip(k).step_by(t).copied().collect()).collect(),
+                )
+            }
+            Schedule::PoolRows => on_pool(frame, Discipline::Shared, frame.rows()),
+            Schedule::PoolTiles => on_pool(frame, Discipline::Shared, frame.tiles()),
+            Schedule::Stealing => on_pool(frame, Discipline::Stealing, frame.tiles()),
+        }
+    }
+}
+
+/// Static scheduling: scoped thread `k` renders the tiles of `assignment[k]`, in order.
+fn on_scoped_threads(frame: &Frame, assignment: Vec<Vec<Tile>>) -> Vec<TileOutput> {
+    std::thread::scope(|scope| {
+        let threads: Vec<_> = assignment
+            .into_iter()
+            .map(|tiles| {
+                scope.spawn(move || tiles.into_iter().map(|tile| frame.render(tile)).collect::<Vec<_>>())
+            })
+            .collect();
+        threads.into_iter().flat_map(|thread| thread.join().expect("a render thread panicked")).collect()
+    })
+}
+
+/// Dynamic scheduling: one job per tile on a pool of `frame.threads` workers.
+fn on_pool(frame: &Arc<Frame>, discipline: Discipline, tiles: Vec<Tile>) -> Vec<TileOutput> {
+    let pool = ThreadPool::new(frame.threads, discipline).expect("a pool of at least one worker starts");
+    pool.batch(tiles.into_iter().map(|tile| {
+        let frame = Arc::clone(frame);
+        move || frame.render(tile)
+    }))
+}
+
+/// A finished render: the image, the rays cast, and when each tile was rendered where.
 #[derive(Clone, Debug)]
 pub struct Rendered {
     /// The image.
     pub image: Image,
     /// Every ray cast, camera rays and bounces.
     pub rays: u64,
+    /// Each tile with its timing, in the order the scheduler returned them.
+    pub timeline: Vec<(Tile, TileTiming)>,
 }
 
-/// Renders `job` with `schedule` on `threads` threads (ignored by `Serial`).
-pub fn render<S: RandomStreams>(
-    job: &RenderJob,
-    streams: &S,
-    schedule: Schedule,
-    threads: usize,
-    progress: Progress,
-) -> Rendered {
-    let height = job.settings.height;
-    let tiles = match schedule {
-        Schedule::Serial => render_rows(job, streams, 0..height, progress),
-        Schedule::StaticBlocks => std::thread::scope(|scope| {
-            let workers: Vec<_> = row_blocks(height, threads)
-                .map(|rows| scope.spawn(move || render_rows(job, streams, rows, progress)))
-                .collect();
-            workers.into_iter().flat_map(|w| w.join().expect("a render thread panicked")).collect()
-        }),
-    };
-    let rays = tiles.iter().map(|t| t.rays).sum();
-    Rendered { image: Image::from_tiles(job.settings.width, height, tiles), rays }
+impl Rendered {
+    /// Number of distinct threads that rendered tiles.
+    pub fn threads_used(&self) -> usize {
+        self.busy_per_thread().len()
+    }
+
+    /// Load imbalance: the busiest thread's rendering time over the mean across threads
+    /// (1.0 = perfect balance; a scheduler's idle threads do not count as threads).
+    pub fn imbalance(&self) -> f64 {
+        let busy = self.busy_per_thread();
+        let mean = busy.iter().sum::<f64>() / busy.len().max(1) as f64;
+        if mean > 0.0 { busy.iter().cloned().fold(0.0, f64::max) / mean } else { 1.0 }
+    }
+
+    /// Seconds spent rendering tiles, per thread, in order of each thread's first tile.
+    pub fn busy_per_thread(&self) -> Vec<f64> {
+        let mut threads: Vec<(std::thread::ThreadId, f64)> = Vec::new();
+        for (_, t) in &self.timeline {
+            let seconds = (t.end - t.start).as_secs_f64();
+            match threads.iter_mut().find(|(id, _)| *id == t.thread) {
+                Some((_, busy)) => *busy += seconds,
+                None => threads.push((t.thread, seconds)),
+            }
+        }
+        threads.into_iter().map(|(_, busy)| busy).collect()
+    }
 }
 
-/// Renders rows `rows` one row-tile at a time (reporting each row as it finishes).
-fn render_rows<S: RandomStreams>(
-    job: &RenderJob,
-    streams: &S,
-    rows: Range<u32>,
-    progress: Progress,
-) -> Vec<TileOutput> {
-    rows.map(|y| {
-        let out = render_tile(job, streams, Tile::rows(job.settings.width, y..y + 1));
-        progress(out.tile.area() as u64);
-        out
-    })
-    .collect()
-}
-
-/// `height` rows cut into `parts` contiguous blocks whose sizes differ by at most one.
-pub fn row_blocks(height: u32, parts: usize) -> impl Iterator<Item = Range<u32>> {
-    let parts = parts.clamp(1, height.max(1) as usize) as u32;
-    (0..parts).map(move |k| (k * height / parts)..((k + 1) * height / parts))
+/// Renders `frame` with `scheduler`.
+///
+/// # Panics
+/// If the scheduler breaks its contract (a pixel rendered twice or never).
+pub fn render(frame: &Arc<Frame>, scheduler: &dyn Scheduler) -> Rendered {
+    let tiles = scheduler.render(frame);
+    let image = frame.assemble(&tiles).unwrap_or_else(|e| panic!("scheduler broke its contract: {e}"));
+    Rendered {
+        image,
+        rays: tiles.iter().map(|t| t.rays).sum(),
+        timeline: tiles.iter().filter_map(|t| Some((t.tile, t.timing?))).collect(),
+    }
 }

@@ -51,7 +51,15 @@ fn render_writes_each_format_and_prints_a_summary() {
 fn thread_count_and_mode_do_not_change_the_bytes() {
     let dir = scratch("threads");
     let mut files = Vec::new();
-    for (k, (mode, threads)) in [("serial", "1"), ("static", "2"), ("static", "5")].into_iter().enumerate() {
+    let runs = [
+        ("serial", "1"),
+        ("static", "2"),
+        ("interleaved", "3"),
+        ("pool-rows", "2"),
+        ("pool", "5"),
+        ("steal", "4"),
+    ];
+    for (k, (mode, threads)) in runs.into_iter().enumerate() {
         let name = format!("{k}.pfm");
         let out = render(&dir, &["--mode", mode, "--threads", threads, "--out", &name]);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -109,6 +117,8 @@ fn bad_flags_exit_2_with_one_line() {
     r(&["--threads", "0"], "--threads");
     r(&["--width", "ten"], "--width");
     r(&["--mode", "turbo"], "turbo");
+    r(&["--tile", "0"], "--tile");
+    r(&["--rng", "global"], "global");
     r(&["--scene", "nosuch"], "unknown scene 'nosuch'");
     r(&["--scene", "final", "--scene-file", "a.toml"], "--scene-file");
     r(&["--frobnicate"], "--frobnicate");

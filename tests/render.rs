@@ -1,17 +1,25 @@
 //! Whole renders: energy conservation (white furnace) and bit-identical images under every
 //! schedule and thread count.
 
+use std::sync::Arc;
+
 use raypool::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::frame::{Frame, RngSource};
 use raypool::output::{Format, encode};
 use raypool::real::Real;
 use raypool::render::{RenderJob, RenderSettings};
 use raypool::sampler::PerSample;
+use raypool::scene::Scene;
 use raypool::schedule::{Rendered, Schedule, render};
+
+fn frame(scene: Scene, settings: RenderSettings, threads: usize) -> Arc<Frame> {
+    let rng = RngSource::PerSample(PerSample { seed: settings.seed });
+    Arc::new(Frame::new(RenderJob::new(scene, settings), rng, threads, 16, Arc::new(|_| {})))
+}
 
 fn render_builtin(name: &str, settings: RenderSettings, schedule: Schedule, threads: usize) -> Rendered {
     let scene = builtin_scene(name, DEFAULT_SCENE_SEED).unwrap().to_scene();
-    let job = RenderJob::new(scene, settings);
-    render(&job, &PerSample { seed: settings.seed }, schedule, threads, &|_| {})
+    render(&frame(scene, settings, threads), &schedule)
 }
 
 fn pfm_bytes(r: &Rendered) -> Vec<u8> {
@@ -24,8 +32,8 @@ fn pfm_bytes(r: &Rendered) -> Vec<u8> {
 fn furnace_sphere_renders_its_albedo_and_the_sky_renders_white() {
     let settings = RenderSettings { width: 48, height: 48, spp: 16, max_depth: 50, seed: 9 };
     let scene = builtin_scene("furnace", 0).unwrap().to_scene();
-    let job = RenderJob::new(scene.clone(), settings);
-    let out = render(&job, &PerSample { seed: 9 }, Schedule::Serial, 1, &|_| {});
+    let frame = frame(scene.clone(), settings, 1);
+    let out = render(&frame, &Schedule::Serial);
     let sphere = scene.spheres()[0];
     let (mut inside, mut outside) = (0, 0);
     for j in 0..48 {
@@ -34,7 +42,7 @@ fn furnace_sphere_renders_its_albedo_and_the_sky_renders_white() {
             let hits = (0..25)
                 .filter(|k| {
                     let (x, y) = (i as Real + (k % 5) as Real / 4.0, j as Real + (k / 5) as Real / 4.0);
-                    let ray = job.camera.center_ray(x, y);
+                    let ray = frame.job().camera.center_ray(x, y);
                     sphere.intersect(&ray, Real::INFINITY).is_some()
                 })
                 .count();
@@ -62,10 +70,15 @@ fn every_schedule_and_thread_count_gives_identical_bytes() {
     let settings = RenderSettings { width: 64, height: 43, spp: 4, max_depth: 10, seed: 5 };
     let reference = render_builtin("final", settings, Schedule::Serial, 1);
     let bytes = pfm_bytes(&reference);
-    for threads in [2, 7] {
-        let other = render_builtin("final", settings, Schedule::StaticBlocks, threads);
-        assert_eq!(other.rays, reference.rays, "{threads} threads cast a different number of rays");
-        assert!(pfm_bytes(&other) == bytes, "static with {threads} threads differs from serial");
+    for schedule in Schedule::ALL {
+        for threads in [2, 7] {
+            let other = render_builtin("final", settings, schedule, threads);
+            assert_eq!(
+                other.rays, reference.rays,
+                "{schedule:?} × {threads} cast a different number of rays"
+            );
+            assert!(pfm_bytes(&other) == bytes, "{schedule:?} with {threads} threads differs from serial");
+        }
     }
 }
 

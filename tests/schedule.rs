@@ -1,0 +1,110 @@
+//! Schedulers: every built-in mode conforms, broken ones are caught, and the measurements
+//! the speedup table relies on (threads used, imbalance) mean what they say.
+
+use std::sync::Arc;
+
+use raypool::conformance::{check, test_frame};
+use raypool::frame::{Frame, RngSource};
+use raypool::real::to_f64;
+use raypool::render::{RenderJob, RenderSettings, TileOutput};
+use raypool::sampler::SharedRng;
+use raypool::schedule::{Schedule, Scheduler, render};
+
+#[test]
+fn every_builtin_mode_conforms_at_several_thread_counts() {
+    for schedule in Schedule::ALL {
+        for threads in [1, 2, 3, 7] {
+            check(&schedule, threads).unwrap_or_else(|e| panic!("{schedule:?} × {threads}: {e}"));
+        }
+    }
+}
+
+/// Forgets the last row.
+struct Lazy;
+impl Scheduler for Lazy {
+    fn render(&self, frame: &Arc<Frame>) -> Vec<TileOutput> {
+        let mut rows = frame.rows();
+        rows.pop();
+        rows.into_iter().map(|r| frame.render(r)).collect()
+    }
+}
+
+/// Renders the first tile twice.
+struct Eager;
+impl Scheduler for Eager {
+    fn render(&self, frame: &Arc<Frame>) -> Vec<TileOutput> {
+        let tiles = frame.tiles();
+        let mut out: Vec<_> = tiles.iter().map(|&t| frame.render(t)).collect();
+        out.push(frame.render(tiles[0]));
+        out
+    }
+}
+
+/// Renders every pixel once but with the wrong random seed.
+struct Reseeded;
+impl Scheduler for Reseeded {
+    fn render(&self, frame: &Arc<Frame>) -> Vec<TileOutput> {
+        let settings = RenderSettings { seed: frame.job().settings.seed + 1, ..frame.job().settings };
+        let other = Frame::new(
+            RenderJob::new(frame.job().scene.clone(), settings),
+            RngSource::PerSample(raypool::sampler::PerSample { seed: settings.seed }),
+            1,
+            frame.tile_size,
+            Arc::new(|_| {}),
+        );
+        other.rows().into_iter().map(|r| other.render(r)).collect()
+    }
+}
+
+#[test]
+fn broken_schedulers_fail_the_check_with_a_reason() {
+    let missing = check(&Lazy, 2).unwrap_err();
+    assert!(missing.contains("never rendered"), "{missing}");
+    let twice = check(&Eager, 2).unwrap_err();
+    assert!(twice.contains("rendered twice"), "{twice}");
+    let wrong = check(&Reseeded, 2).unwrap_err();
+    assert!(wrong.contains("differs from the serial render"), "{wrong}");
+}
+
+#[test]
+fn tiles_cover_odd_sizes_exactly() {
+    let frame = test_frame(2); // 61 × 37 with tiles of 7
+    let tiles = frame.tiles();
+    assert_eq!(tiles.len(), 9 * 6);
+    assert_eq!(tiles.iter().map(|t| t.area()).sum::<usize>(), 61 * 37);
+    assert!(tiles.iter().all(|t| t.x + t.width <= 61 && t.y + t.height <= 37));
+}
+
+#[test]
+fn parallel_modes_use_the_threads_they_are_given() {
+    for schedule in [Schedule::StaticBlocks, Schedule::Interleaved] {
+        let rendered = render(&test_frame(3), &schedule);
+        assert_eq!(rendered.threads_used(), 3, "{schedule:?}: static modes start exactly T threads");
+        assert!(rendered.imbalance() >= 1.0 && rendered.imbalance() <= 3.0);
+    }
+    for schedule in [Schedule::PoolRows, Schedule::PoolTiles, Schedule::Stealing] {
+        let rendered = render(&test_frame(3), &schedule);
+        assert!((1..=3).contains(&rendered.threads_used()), "{schedule:?}: at most T pool workers");
+    }
+    assert_eq!(render(&test_frame(3), &Schedule::Serial).threads_used(), 1);
+}
+
+#[test]
+fn shared_rng_renders_a_plausible_image_on_any_mode() {
+    for schedule in [Schedule::Serial, Schedule::StaticBlocks, Schedule::Stealing] {
+        let settings = RenderSettings { width: 40, height: 27, spp: 4, max_depth: 10, seed: 3 };
+        let scene = raypool::builtin::builtin_scene("paper1", 0).unwrap().to_scene();
+        let frame = Arc::new(Frame::new(
+            RenderJob::new(scene, settings),
+            RngSource::Shared(Arc::new(SharedRng::new(3))),
+            2,
+            8,
+            Arc::new(|_| {}),
+        ));
+        let rendered = render(&frame, &schedule);
+        let pixels = &rendered.image.pixels;
+        assert!(pixels.iter().all(|p| p.is_finite() && p.min_element() >= 0.0), "{schedule:?}");
+        let mean = pixels.iter().map(|p| to_f64(p.element_sum())).sum::<f64>() / pixels.len() as f64 / 3.0;
+        assert!(mean > 0.2 && mean < 1.0, "{schedule:?}: mean {mean}: sky and ground expected");
+    }
+}
