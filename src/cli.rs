@@ -9,6 +9,7 @@ use std::time::Instant;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::bench::{Preset, write_reports};
 use crate::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::error::Error;
 use crate::frame::{Frame, RngSource};
@@ -37,6 +38,15 @@ pub enum Command {
     Render(RenderArgs),
     /// List the built-in scenes.
     Scenes,
+    /// Measure every mode at 1…2×CPUs threads on the benchmark scenes; write tables and plots.
+    Bench {
+        /// Small images and 3 runs (under 2 minutes on 2 cores) instead of the full preset.
+        #[arg(long)]
+        quick: bool,
+        /// Where to write speedup.md, speedup.csv and the plots.
+        #[arg(long, default_value = "results", value_name = "DIR")]
+        out_dir: PathBuf,
+    },
     /// Print a scene as TOML (e.g. `raypool scene final > final.toml`).
     Scene {
         /// Built-in scene name (see `raypool scenes`).
@@ -114,6 +124,14 @@ pub fn run(cli: Cli) -> Result<(), Error> {
             for b in BUILTINS {
                 println!("{:<14} {}", b.name, b.about);
             }
+            Ok(())
+        }
+        Command::Bench { quick, out_dir } => {
+            let preset = if quick { Preset::quick() } else { Preset::full() };
+            let outcome = crate::bench::run(&preset, &[], |line| eprintln!("{line}"))?;
+            let command = if quick { "raypool bench --quick" } else { "raypool bench" };
+            write_reports(&out_dir, &preset, &outcome, command)?;
+            eprintln!("wrote {}/speedup.md, speedup.csv, speedup.png, timeline-*.png", out_dir.display());
             Ok(())
         }
         Command::Scene { name, scene_seed } => {

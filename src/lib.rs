@@ -20,13 +20,16 @@
 //! | [`schedule`] | who renders which tile: the `Scheduler` trait and six modes |
 //! | [`conformance`] | the check a student's scheduler must pass |
 //! | [`image`], [`output`] | the frame buffer and PNG/PPM/PFM files |
+//! | [`plot`] | speedup and timeline charts |
 //! | [`machine`] | names the machine, commit and date of a measurement |
+//! | [`bench`] | the speedup benchmark (`raypool bench`) |
 //! | [`cli`] | the `raypool` command |
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
 pub mod background;
+pub mod bench;
 pub mod builtin;
 pub mod bvh;
 pub mod camera;
@@ -38,6 +41,7 @@ pub mod image;
 pub mod machine;
 pub mod material;
 pub mod output;
+pub mod plot;
 pub mod ray;
 pub mod real;
 pub mod render;

@@ -69,9 +69,26 @@ impl PendingOutput {
 
     /// Encodes `image`, then renames the finished file onto the destination.
     pub fn write(self, image: &Image) -> Result<(), Error> {
+        let format = self.format;
+        self.finish(|out| encode(image, format, out))
+    }
+
+    /// Writes 8-bit RGB bytes (e.g. a plot) as a PNG, then renames it into place.
+    pub fn write_rgb8(self, width: u32, height: u32, rgb: &[u8]) -> Result<(), Error> {
+        self.finish(|out| {
+            PngEncoder::new(out)
+                .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
+                .map_err(|e| e.to_string())
+        })
+    }
+
+    fn finish(
+        self,
+        encode: impl FnOnce(&mut BufWriter<&std::fs::File>) -> Result<(), String>,
+    ) -> Result<(), Error> {
         let fail = |e: String| Error::new(format!("cannot write '{}': {e}", self.path.display()));
         let mut out = BufWriter::new(self.temp.as_file());
-        encode(image, self.format, &mut out).map_err(&fail)?;
+        encode(&mut out).map_err(&fail)?;
         out.flush().map_err(|e| fail(io_reason(&e)))?;
         drop(out);
         self.temp.persist(&self.path).map_err(|e| fail(io_reason(&e.error)))?;

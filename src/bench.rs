@@ -1,0 +1,333 @@
+//! The speedup benchmark behind `raypool bench` and `cargo bench --bench speedup`: every
+//! mode at 1, 2, …, 2 × cores threads on the benchmark scenes, medians of several runs, and
+//! the seed paper's shared-`rand()` ablation. Writes `speedup.md`, `speedup.csv`,
+//! `speedup.png` and two timelines into the output directory.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use crate::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use crate::cli::{DEFAULT_TILE, default_height};
+use crate::error::Error;
+use crate::frame::{Frame, RngSource};
+use crate::machine::Machine;
+use crate::plot::{Series, speedup_plot, timeline_plot};
+use crate::render::{RenderJob, RenderSettings};
+use crate::sampler::{PerSample, SharedRng};
+use crate::schedule::{Rendered, Schedule, Scheduler, render};
+
+/// Sizes and repetitions of one benchmark run.
+#[derive(Clone, Debug)]
+pub struct Preset {
+    /// Name shown in the report.
+    pub name: &'static str,
+    /// Image width (height from each scene's aspect).
+    pub width: u32,
+    /// Samples per pixel.
+    pub spp: u32,
+    /// Runs per configuration; the median is reported.
+    pub runs: usize,
+    /// Scenes and their max depth: the paper's figures at its depth 10, `final` at the
+    /// book's 50.
+    pub scenes: Vec<(&'static str, u32)>,
+    /// Scenes that also get the shared-generator rows.
+    pub shared_rng_scenes: Vec<&'static str>,
+}
+
+impl Preset {
+    /// `raypool bench --quick`: small images, three runs; under two minutes on 2 cores.
+    pub fn quick() -> Preset {
+        Preset { name: "quick", width: 240, spp: 16, runs: 3, ..Preset::full() }
+    }
+
+    /// `cargo bench --bench speedup`: the committed results.
+    pub fn full() -> Preset {
+        Preset {
+            name: "full",
+            width: 400,
+            spp: 32,
+            runs: 5,
+            scenes: vec![("final", 50), ("paper1", 10), ("paper2", 10), ("paper3", 10)],
+            shared_rng_scenes: vec!["paper1", "final"],
+        }
+    }
+}
+
+/// Per-thread `(start, end)` seconds of each tile a thread rendered.
+pub type Lanes = Vec<Vec<(f64, f64)>>;
+
+/// A scheduler under test, with the name the tables use.
+pub struct Contender<'a> {
+    /// Name in the tables and plots.
+    pub name: String,
+    /// The scheduler.
+    pub scheduler: &'a dyn Scheduler,
+}
+
+/// One measured configuration.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// Scene name.
+    pub scene: &'static str,
+    /// Contender name.
+    pub mode: String,
+    /// "per-sample" or "shared".
+    pub rng: &'static str,
+    /// Threads given to the scheduler.
+    pub threads: usize,
+    /// Every run's wall time, seconds, sorted.
+    pub seconds: Vec<f64>,
+    /// Rays cast in one run.
+    pub rays: u64,
+    /// Median load imbalance (busiest thread ÷ mean).
+    pub imbalance: f64,
+    /// Serial median ÷ this median.
+    pub speedup: f64,
+}
+
+impl Row {
+    /// Median wall time, seconds.
+    pub fn median(&self) -> f64 {
+        self.seconds[self.seconds.len() / 2]
+    }
+
+    /// Speedup ÷ threads.
+    pub fn efficiency(&self) -> f64 {
+        self.speedup / self.threads as f64
+    }
+}
+
+/// Everything one benchmark run produced.
+pub struct Outcome {
+    /// All rows, scene by scene.
+    pub rows: Vec<Row>,
+    /// `final`'s tile timelines at `cores` threads, by mode.
+    pub timelines: Vec<(String, Lanes)>,
+    /// Thread counts measured.
+    pub thread_counts: Vec<usize>,
+}
+
+/// Renders one configuration `runs` times: (sorted wall times, the last render, the median
+/// load imbalance).
+fn measure_row(
+    job: &RenderJob,
+    scheduler: &dyn Scheduler,
+    threads: usize,
+    shared_rng: bool,
+    runs: usize,
+) -> (Vec<f64>, Rendered, f64) {
+    let mut seconds = Vec::with_capacity(runs);
+    let mut imbalances = Vec::with_capacity(runs);
+    let mut last = None;
+    for _ in 0..runs.max(1) {
+        let rng = if shared_rng {
+            RngSource::Shared(Arc::new(SharedRng::new(job.settings.seed)))
+        } else {
+            RngSource::PerSample(PerSample { seed: job.settings.seed })
+        };
+        let frame = Arc::new(Frame::new(job.clone(), rng, threads, DEFAULT_TILE, Arc::new(|_| {})));
+        let start = Instant::now();
+        let rendered = render(&frame, scheduler);
+        seconds.push(start.elapsed().as_secs_f64());
+        imbalances.push(rendered.imbalance());
+        last = Some(rendered);
+    }
+    seconds.sort_by(f64::total_cmp);
+    imbalances.sort_by(f64::total_cmp);
+    (seconds, last.expect("at least one run"), imbalances[imbalances.len() / 2])
+}
+
+/// A render's tiles as per-thread lanes of `(start, end)` seconds, threads in order of
+/// their first tile.
+fn lanes(rendered: &Rendered) -> Lanes {
+    let mut ids: Vec<std::thread::ThreadId> = Vec::new();
+    let mut lanes: Lanes = Vec::new();
+    let mut timeline = rendered.timeline.clone();
+    timeline.sort_by_key(|(_, t)| t.start);
+    for (_, t) in timeline {
+        let lane = ids.iter().position(|&id| id == t.thread).unwrap_or_else(|| {
+            ids.push(t.thread);
+            lanes.push(Vec::new());
+            ids.len() - 1
+        });
+        lanes[lane].push((t.start.as_secs_f64(), t.end.as_secs_f64()));
+    }
+    lanes
+}
+
+/// Runs the benchmark: the built-in modes plus `extra` contenders (e.g. a rayon baseline).
+/// `log` receives one line per measured configuration.
+pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> Result<Outcome, Error> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let thread_counts: Vec<usize> = (1..=2 * cores).collect();
+    let builtins: Vec<Contender> =
+        Schedule::ALL[1..].iter().map(|s| Contender { name: s.name().to_owned(), scheduler: s }).collect();
+    let mut rows = Vec::new();
+    let mut timelines = Vec::new();
+    for &(scene_name, depth) in &preset.scenes {
+        let scene = builtin_scene(scene_name, DEFAULT_SCENE_SEED)?;
+        let height = default_height(preset.width, scene.camera.aspect)?;
+        let settings =
+            RenderSettings { width: preset.width, height, spp: preset.spp, max_depth: depth, seed: 1 };
+        let job = RenderJob::new(scene.to_scene(), settings);
+        let mut record = |mode: &str,
+                          rng: &'static str,
+                          threads: usize,
+                          result: (Vec<f64>, Rendered, f64),
+                          serial: f64| {
+            let (seconds, rendered, imbalance) = result;
+            let row = Row {
+                scene: scene_name,
+                mode: mode.to_owned(),
+                rng,
+                threads,
+                rays: rendered.rays,
+                imbalance,
+                speedup: 0.0,
+                seconds,
+            };
+            let row = Row { speedup: if serial > 0.0 { serial / row.median() } else { 1.0 }, ..row };
+            log(&format!(
+                "{scene_name:<7} {mode:<12} {rng:<10} {threads:>2} threads: {:>8.3} s  speedup {:>5.2}  imbalance {:.3}",
+                row.median(),
+                row.speedup,
+                row.imbalance
+            ));
+            rows.push(row);
+            rendered
+        };
+        let serial = measure_row(&job, &Schedule::Serial, 1, false, preset.runs);
+        let serial_median = serial.0[serial.0.len() / 2];
+        record("serial", "per-sample", 1, serial, serial_median);
+        for contender in builtins.iter().chain(extra) {
+            for &threads in &thread_counts {
+                let result = measure_row(&job, contender.scheduler, threads, false, preset.runs);
+                let rendered = record(&contender.name, "per-sample", threads, result, serial_median);
+                if scene_name == "final"
+                    && threads == cores
+                    && ["static", "steal"].contains(&contender.name.as_str())
+                {
+                    timelines.push((contender.name.clone(), lanes(&rendered)));
+                }
+            }
+        }
+        if preset.shared_rng_scenes.contains(&scene_name) {
+            let result = measure_row(&job, &Schedule::Serial, 1, true, preset.runs);
+            record("serial", "shared", 1, result, serial_median);
+            for &threads in thread_counts.iter().filter(|&&t| t > 1) {
+                let result = measure_row(&job, &Schedule::StaticBlocks, threads, true, preset.runs);
+                record("static", "shared", threads, result, serial_median);
+            }
+        }
+    }
+    Ok(Outcome { rows, timelines, thread_counts })
+}
+
+/// Writes `speedup.md`, `speedup.csv`, `speedup.png`, `timeline-static.png` and
+/// `timeline-steal.png` into `dir`. `command` is the command line that produced `outcome`.
+pub fn write_reports(dir: &Path, preset: &Preset, outcome: &Outcome, command: &str) -> Result<(), Error> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| Error::new(format!("cannot create '{}': {e}", dir.display())))?;
+    let machine = Machine::current();
+    write_text(&dir.join("speedup.csv"), &csv(outcome))?;
+    write_text(&dir.join("speedup.md"), &markdown(preset, outcome, command, &machine))?;
+    let series: Vec<Series> = outcome
+        .rows
+        .iter()
+        .filter(|r| r.scene == "final" && r.rng == "per-sample" && r.mode != "serial")
+        .fold(Vec::<Series>::new(), |mut acc, r| {
+            match acc.iter_mut().find(|s| s.label == r.mode) {
+                Some(s) => s.points.push((r.threads, r.speedup)),
+                None => acc.push(Series { label: r.mode.clone(), points: vec![(r.threads, r.speedup)] }),
+            }
+            acc
+        });
+    let title = format!(
+        "final, {} px wide, {} spp: speedup over serial ({} CPUs, {})",
+        preset.width, preset.spp, machine.cpus, machine.date
+    );
+    speedup_plot(&dir.join("speedup.png"), &title, &series)?;
+    for (mode, lanes) in &outcome.timelines {
+        let title = format!(
+            "final, mode {mode}, {} threads: tiles per thread (nproc {}, {})",
+            lanes.len(),
+            machine.cpus,
+            machine.date
+        );
+        timeline_plot(&dir.join(format!("timeline-{mode}.png")), &title, lanes)?;
+    }
+    Ok(())
+}
+
+fn csv(outcome: &Outcome) -> String {
+    let mut out = String::from(
+        "scene,mode,rng,threads,median_s,runs_s,speedup,efficiency,imbalance,rays,mrays_per_s\n",
+    );
+    for r in &outcome.rows {
+        let runs: Vec<String> = r.seconds.iter().map(|s| format!("{s:.4}")).collect();
+        let _ = writeln!(
+            out,
+            "{},{},{},{},{:.4},{},{:.3},{:.3},{:.3},{},{:.2}",
+            r.scene,
+            r.mode,
+            r.rng,
+            r.threads,
+            r.median(),
+            runs.join(" "),
+            r.speedup,
+            r.efficiency(),
+            r.imbalance,
+            r.rays,
+            r.rays as f64 / r.median() / 1e6
+        );
+    }
+    out
+}
+
+fn markdown(preset: &Preset, outcome: &Outcome, command: &str, machine: &Machine) -> String {
+    let mut md = String::new();
+    let _ = writeln!(md, "# Speedup: modes × threads\n");
+    let _ = writeln!(md, "Command: `{command}` (preset `{}`) · {}\n", preset.name, machine.describe());
+    let _ = writeln!(
+        md,
+        "Each scene rendered {} wide at {} spp (height from its aspect), tiles of {DEFAULT_TILE} px; `final` at max depth 50 (the book's), the paper's figures at 10 (the paper's). \
+         Times are medians of {} runs. Speedup = serial median ÷ median; efficiency = speedup ÷ threads; \
+         imbalance = busiest thread's rendering time ÷ mean over the threads that rendered (1.000 = perfect). \
+         Every per-sample row renders the same image, bit for bit.\n",
+        preset.width, preset.spp, preset.runs
+    );
+    let scenes: Vec<&str> = preset.scenes.iter().map(|s| s.0).collect();
+    for scene in scenes {
+        let _ = writeln!(md, "## {scene}\n");
+        let _ = writeln!(
+            md,
+            "| mode | rng | threads | median | speedup | efficiency | imbalance | Mrays/s |\n|---|---|---:|---:|---:|---:|---:|---:|"
+        );
+        for r in outcome.rows.iter().filter(|r| r.scene == scene) {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {:.3} s | {:.2} | {:.0}% | {:.3} | {:.2} |",
+                r.mode,
+                r.rng,
+                r.threads,
+                r.median(),
+                r.speedup,
+                100.0 * r.efficiency(),
+                r.imbalance,
+                r.rays as f64 / r.median() / 1e6
+            );
+        }
+        md.push('\n');
+    }
+    let _ = writeln!(md, "Thread counts measured: {:?}.", outcome.thread_counts);
+    md
+}
+
+fn write_text(path: &Path, text: &str) -> Result<(), Error> {
+    let tmp = path.with_extension("tmp");
+    std::fs::write(&tmp, text)
+        .and_then(|()| std::fs::rename(&tmp, path))
+        .map_err(|e| Error::new(format!("cannot write '{}': {e}", path.display())))
+}

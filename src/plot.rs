@@ -1,0 +1,124 @@
+//! PNG plots for `results/`: speedup curves and per-thread timelines (Gantt charts).
+//!
+//! Drawn with plotters into an in-memory RGB buffer and encoded with the `image` crate, with
+//! a font compiled into the binary (Ubuntu Light, from `epaint_default_fonts`), so plots need
+//! no system font library on a fresh machine.
+
+use std::path::Path;
+use std::sync::Once;
+
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+use crate::error::Error;
+use crate::output::PendingOutput;
+
+const SIZE: (u32, u32) = (960, 600);
+
+/// One line of a speedup plot: a label and `(threads, speedup)` points.
+pub struct Series {
+    /// Legend text.
+    pub label: String,
+    /// Points, in increasing thread count.
+    pub points: Vec<(usize, f64)>,
+}
+
+/// Speedup against threads, one line per series, with the ideal `speedup = threads` line.
+pub fn speedup_plot(path: &Path, title: &str, series: &[Series]) -> Result<(), Error> {
+    let max_threads = series.iter().flat_map(|s| s.points.iter().map(|p| p.0)).max().unwrap_or(1).max(2);
+    let max_speedup =
+        series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).fold(max_threads as f64, f64::max);
+    draw(path, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", 24))
+            .margin(16)
+            .x_label_area_size(44)
+            .y_label_area_size(56)
+            .build_cartesian_2d(0.5f64..max_threads as f64 + 0.5, 0f64..max_speedup * 1.05)?;
+        chart
+            .configure_mesh()
+            .x_desc("threads")
+            .y_desc("speedup over serial")
+            .label_style(("sans-serif", 16))
+            .draw()?;
+        chart
+            .draw_series(LineSeries::new(
+                [(1.0, 1.0), (max_threads as f64, max_threads as f64)],
+                BLACK.stroke_width(1),
+            ))?
+            .label("ideal")
+            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK));
+        for (k, s) in series.iter().enumerate() {
+            let colour = Palette99::pick(k).to_rgba();
+            let points: Vec<(f64, f64)> = s.points.iter().map(|&(t, v)| (t as f64, v)).collect();
+            chart
+                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))?
+                .label(s.label.as_str())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2)));
+            chart.draw_series(points.into_iter().map(|p| Circle::new(p, 4, colour.filled())))?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .label_font(("sans-serif", 16))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()?;
+        Ok(())
+    })
+}
+
+/// A Gantt chart: lane `k` holds thread `k`'s tile jobs as `(start, end)` seconds.
+pub fn timeline_plot(path: &Path, title: &str, lanes: &[Vec<(f64, f64)>]) -> Result<(), Error> {
+    let end = lanes.iter().flatten().map(|s| s.1).fold(0.0, f64::max).max(1e-6);
+    draw(path, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", 22))
+            .margin(16)
+            .x_label_area_size(44)
+            .y_label_area_size(70)
+            .build_cartesian_2d(0f64..end * 1.02, -0.5f64..lanes.len() as f64 - 0.5)?;
+        chart
+            .configure_mesh()
+            .x_desc("seconds since the render started")
+            .y_desc("thread")
+            .y_labels(lanes.len().min(32))
+            .y_label_formatter(&|y| format!("{}", y.round() as i64))
+            .label_style(("sans-serif", 16))
+            .disable_y_mesh()
+            .draw()?;
+        for (lane, spans) in lanes.iter().enumerate() {
+            let colour = Palette99::pick(lane).to_rgba();
+            let y = lane as f64;
+            chart.draw_series(spans.iter().enumerate().map(|(k, &(s, e))| {
+                // Alternate shades so neighbouring tiles stay distinguishable.
+                let fill = if k % 2 == 0 { colour.filled() } else { colour.mix(0.6).filled() };
+                Rectangle::new([(s, y - 0.4), (e, y + 0.4)], fill)
+            }))?;
+        }
+        Ok(())
+    })
+}
+
+type DrawResult = Result<(), Box<dyn std::error::Error>>;
+
+/// Draws on a white canvas and writes it as a PNG (atomically).
+fn draw(
+    path: &Path,
+    paint: impl FnOnce(&DrawingArea<BitMapBackend, plotters::coord::Shift>) -> DrawResult,
+) -> Result<(), Error> {
+    static FONT: Once = Once::new();
+    FONT.call_once(|| {
+        plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)
+            .unwrap_or_else(|_| panic!("the bundled font parses"))
+    });
+    let mut rgb = vec![255u8; SIZE.0 as usize * SIZE.1 as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| Error::new(format!("plot {}: {e}", path.display())))?;
+        paint(&root).map_err(|e| Error::new(format!("plot {}: {e}", path.display())))?;
+        root.present().map_err(|e| Error::new(format!("plot {}: {e}", path.display())))?;
+    }
+    let output = PendingOutput::create(path)?;
+    output.write_rgb8(SIZE.0, SIZE.1, &rgb)
+}
