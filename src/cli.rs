@@ -41,8 +41,15 @@ pub enum Command {
     /// Measure every mode at 1…2×CPUs threads on the benchmark scenes; write tables and plots.
     Bench {
         /// Small images and 3 runs (under 2 minutes on 2 cores) instead of the full preset.
-        #[arg(long)]
+        #[arg(long, conflicts_with = "paper")]
         quick: bool,
+        /// Instead: the seed paper's table at 1200 × 800 (paper-table.md). Long: at 500 spp
+        /// it is hours of CPU; pass a smaller --spp to estimate.
+        #[arg(long)]
+        paper: bool,
+        /// Samples per pixel for --paper.
+        #[arg(long, default_value_t = 500, requires = "paper", value_parser = clap::value_parser!(u32).range(1..))]
+        spp: u32,
         /// Where to write speedup.md, speedup.csv and the plots.
         #[arg(long, default_value = "results", value_name = "DIR")]
         out_dir: PathBuf,
@@ -126,7 +133,15 @@ pub fn run(cli: Cli) -> Result<(), Error> {
             }
             Ok(())
         }
-        Command::Bench { quick, out_dir } => {
+        Command::Bench { paper: true, spp, out_dir, .. } => {
+            let threads = default_threads();
+            let cells = crate::bench::paper_table(spp, threads, |line| eprintln!("{line}"))?;
+            let command = format!("raypool bench --paper --spp {spp}");
+            crate::bench::write_paper_table(&out_dir, &cells, spp, threads, &command)?;
+            eprintln!("wrote {}/paper-table.md", out_dir.display());
+            Ok(())
+        }
+        Command::Bench { quick, out_dir, .. } => {
             let preset = if quick { Preset::quick() } else { Preset::full() };
             let outcome = crate::bench::run(&preset, &[], |line| eprintln!("{line}"))?;
             let command = if quick { "raypool bench --quick" } else { "raypool bench" };

@@ -24,11 +24,12 @@ pub struct Series {
 }
 
 /// Speedup against threads, one line per series, with the ideal `speedup = threads` line.
-pub fn speedup_plot(path: &Path, title: &str, series: &[Series]) -> Result<(), Error> {
+/// `footer` (the command and machine) is printed under the chart.
+pub fn speedup_plot(path: &Path, title: &str, footer: &str, series: &[Series]) -> Result<(), Error> {
     let max_threads = series.iter().flat_map(|s| s.points.iter().map(|p| p.0)).max().unwrap_or(1).max(2);
     let max_speedup =
         series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).fold(max_threads as f64, f64::max);
-    draw(path, |root| {
+    draw(path, footer, |root| {
         let mut chart = ChartBuilder::on(root)
             .caption(title, ("sans-serif", 24))
             .margin(16)
@@ -69,9 +70,9 @@ pub fn speedup_plot(path: &Path, title: &str, series: &[Series]) -> Result<(), E
 }
 
 /// A Gantt chart: lane `k` holds thread `k`'s tile jobs as `(start, end)` seconds.
-pub fn timeline_plot(path: &Path, title: &str, lanes: &[Vec<(f64, f64)>]) -> Result<(), Error> {
+pub fn timeline_plot(path: &Path, title: &str, footer: &str, lanes: &[Vec<(f64, f64)>]) -> Result<(), Error> {
     let end = lanes.iter().flatten().map(|s| s.1).fold(0.0, f64::max).max(1e-6);
-    draw(path, |root| {
+    draw(path, footer, |root| {
         let mut chart = ChartBuilder::on(root)
             .caption(title, ("sans-serif", 22))
             .margin(16)
@@ -102,9 +103,11 @@ pub fn timeline_plot(path: &Path, title: &str, lanes: &[Vec<(f64, f64)>]) -> Res
 
 type DrawResult = Result<(), Box<dyn std::error::Error>>;
 
-/// Draws on a white canvas and writes it as a PNG (atomically).
+/// Draws on a white canvas, with `footer` in small print at the bottom, and writes it as a
+/// PNG (atomically).
 fn draw(
     path: &Path,
+    footer: &str,
     paint: impl FnOnce(&DrawingArea<BitMapBackend, plotters::coord::Shift>) -> DrawResult,
 ) -> Result<(), Error> {
     static FONT: Once = Once::new();
@@ -115,9 +118,14 @@ fn draw(
     let mut rgb = vec![255u8; SIZE.0 as usize * SIZE.1 as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| Error::new(format!("plot {}: {e}", path.display())))?;
-        paint(&root).map_err(|e| Error::new(format!("plot {}: {e}", path.display())))?;
-        root.present().map_err(|e| Error::new(format!("plot {}: {e}", path.display())))?;
+        let fail = |e: String| Error::new(format!("plot {}: {e}", path.display()));
+        root.fill(&WHITE).map_err(|e| fail(e.to_string()))?;
+        let (chart, bottom) = root.split_vertically(SIZE.1 - 24);
+        paint(&chart).map_err(|e| fail(e.to_string()))?;
+        bottom
+            .draw_text(footer, &("sans-serif", 14).into_text_style(&bottom), (16, 4))
+            .map_err(|e| fail(e.to_string()))?;
+        root.present().map_err(|e| fail(e.to_string()))?;
     }
     let output = PendingOutput::create(path)?;
     output.write_rgb8(SIZE.0, SIZE.1, &rgb)

@@ -56,6 +56,12 @@ pub struct PoolStats {
 
 impl PoolStats {
     /// Jobs run by all workers.
+    ///
+    /// ```
+    /// let pool = pool::ThreadPool::new(3, pool::Discipline::Locked).unwrap();
+    /// pool.batch((0..30).map(|i| move || i));
+    /// assert_eq!(pool.stats().total_jobs(), 30);
+    /// ```
     pub fn total_jobs(&self) -> u64 {
         self.workers.iter().map(|w| w.jobs_run).sum()
     }
@@ -63,6 +69,14 @@ impl PoolStats {
     /// Load imbalance: the busiest worker's busy time over the mean busy time. 1.0 is a
     /// perfect balance; `T` (the worker count) means one worker did everything. Requires an
     /// instrumented pool; 1.0 when nothing was measured.
+    ///
+    /// ```
+    /// use std::time::Duration;
+    /// use pool::{PoolStats, WorkerStats};
+    /// let busy = |ms| WorkerStats { busy: Duration::from_millis(ms), ..Default::default() };
+    /// let stats = PoolStats { workers: vec![busy(30), busy(10)] };
+    /// assert_eq!(stats.imbalance(), 1.5); // 30 ms against a mean of 20 ms
+    /// ```
     pub fn imbalance(&self) -> f64 {
         let busy: Vec<f64> = self.workers.iter().map(|w| w.busy.as_secs_f64()).collect();
         let mean = busy.iter().sum::<f64>() / busy.len().max(1) as f64;
