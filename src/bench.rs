@@ -109,34 +109,35 @@ pub struct Outcome {
     pub thread_counts: Vec<usize>,
 }
 
-/// Renders one configuration `runs` times: (sorted wall times, the last render, the median
-/// load imbalance).
-fn measure_row(
+/// Renders one configuration once: (wall seconds, the render).
+fn measure_once(
     job: &RenderJob,
     scheduler: &dyn Scheduler,
     threads: usize,
     shared_rng: bool,
-    runs: usize,
-) -> (Vec<f64>, Rendered, f64) {
-    let mut seconds = Vec::with_capacity(runs);
-    let mut imbalances = Vec::with_capacity(runs);
-    let mut last = None;
-    for _ in 0..runs.max(1) {
-        let rng = if shared_rng {
-            RngSource::Shared(Arc::new(SharedRng::new(job.settings.seed)))
-        } else {
-            RngSource::PerSample(PerSample { seed: job.settings.seed })
-        };
-        let frame = Arc::new(Frame::new(job.clone(), rng, threads, DEFAULT_TILE, Arc::new(|_| {})));
-        let start = Instant::now();
-        let rendered = render(&frame, scheduler);
-        seconds.push(start.elapsed().as_secs_f64());
-        imbalances.push(rendered.imbalance());
-        last = Some(rendered);
-    }
-    seconds.sort_by(f64::total_cmp);
-    imbalances.sort_by(f64::total_cmp);
-    (seconds, last.expect("at least one run"), imbalances[imbalances.len() / 2])
+) -> (f64, Rendered) {
+    let rng = if shared_rng {
+        RngSource::Shared(Arc::new(SharedRng::new(job.settings.seed)))
+    } else {
+        RngSource::PerSample(PerSample { seed: job.settings.seed })
+    };
+    let frame = Arc::new(Frame::new(job.clone(), rng, threads, DEFAULT_TILE, Arc::new(|_| {})));
+    let start = Instant::now();
+    let rendered = render(&frame, scheduler);
+    (start.elapsed().as_secs_f64(), rendered)
+}
+
+/// One configuration of the benchmark: a scheduler, a thread count, a random source.
+struct Config<'a> {
+    mode: &'a str,
+    scheduler: &'a dyn Scheduler,
+    threads: usize,
+    shared_rng: bool,
+}
+
+fn median(values: &mut [f64]) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
 }
 
 /// A render's tiles as per-thread lanes of `(start, end)` seconds, threads in order of
@@ -172,53 +173,74 @@ pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> R
         let settings =
             RenderSettings { width: preset.width, height, spp: preset.spp, max_depth: depth, seed: 1 };
         let job = RenderJob::new(scene.to_scene(), settings);
-        let mut record = |mode: &str,
-                          rng: &'static str,
-                          threads: usize,
-                          result: (Vec<f64>, Rendered, f64),
-                          serial: f64| {
-            let (seconds, rendered, imbalance) = result;
-            let row = Row {
-                scene: scene_name,
-                mode: mode.to_owned(),
-                rng,
-                threads,
-                rays: rendered.rays,
-                imbalance,
-                speedup: 0.0,
-                seconds,
-            };
-            let row = Row { speedup: if serial > 0.0 { serial / row.median() } else { 1.0 }, ..row };
-            log(&format!(
-                "{scene_name:<7} {mode:<12} {rng:<10} {threads:>2} threads: {:>8.3} s  speedup {:>5.2}  imbalance {:.3}",
-                row.median(),
-                row.speedup,
-                row.imbalance
-            ));
-            rows.push(row);
-            rendered
-        };
-        let serial = measure_row(&job, &Schedule::Serial, 1, false, preset.runs);
-        let serial_median = serial.0[serial.0.len() / 2];
-        record("serial", "per-sample", 1, serial, serial_median);
+        let mut configs =
+            vec![Config { mode: "serial", scheduler: &Schedule::Serial, threads: 1, shared_rng: false }];
         for contender in builtins.iter().chain(extra) {
             for &threads in &thread_counts {
-                let result = measure_row(&job, contender.scheduler, threads, false, preset.runs);
-                let rendered = record(&contender.name, "per-sample", threads, result, serial_median);
-                if scene_name == "final"
-                    && threads == cores
-                    && ["static", "steal"].contains(&contender.name.as_str())
-                {
-                    timelines.push((contender.name.clone(), lanes(&rendered)));
-                }
+                configs.push(Config {
+                    mode: &contender.name,
+                    scheduler: contender.scheduler,
+                    threads,
+                    shared_rng: false,
+                });
             }
         }
         if preset.shared_rng_scenes.contains(&scene_name) {
-            let result = measure_row(&job, &Schedule::Serial, 1, true, preset.runs);
-            record("serial", "shared", 1, result, serial_median);
+            configs.push(Config {
+                mode: "serial",
+                scheduler: &Schedule::Serial,
+                threads: 1,
+                shared_rng: true,
+            });
             for &threads in thread_counts.iter().filter(|&&t| t > 1) {
-                let result = measure_row(&job, &Schedule::StaticBlocks, threads, true, preset.runs);
-                record("static", "shared", threads, result, serial_median);
+                configs.push(Config {
+                    mode: "static",
+                    scheduler: &Schedule::StaticBlocks,
+                    threads,
+                    shared_rng: true,
+                });
+            }
+        }
+        // Round-robin: each round runs every configuration once, so a machine that slows down
+        // or speeds up over the minutes of a benchmark affects every configuration alike.
+        let mut seconds = vec![Vec::new(); configs.len()];
+        let mut imbalances = vec![Vec::new(); configs.len()];
+        let mut last = Vec::new();
+        for round in 0..preset.runs.max(1) {
+            last.clear();
+            for (k, c) in configs.iter().enumerate() {
+                let (s, rendered) = measure_once(&job, c.scheduler, c.threads, c.shared_rng);
+                seconds[k].push(s);
+                imbalances[k].push(rendered.imbalance());
+                last.push(rendered);
+            }
+            log(&format!("{scene_name}: round {} of {} done", round + 1, preset.runs.max(1)));
+        }
+        let serial = median(&mut seconds[0].clone());
+        for (k, c) in configs.iter().enumerate() {
+            let mut runs = seconds[k].clone();
+            let m = median(&mut runs);
+            let row = Row {
+                scene: scene_name,
+                mode: c.mode.to_owned(),
+                rng: if c.shared_rng { "shared" } else { "per-sample" },
+                threads: c.threads,
+                seconds: runs,
+                rays: last[k].rays,
+                imbalance: median(&mut imbalances[k]),
+                speedup: serial / m,
+            };
+            log(&format!(
+                "{scene_name:<7} {:<12} {:<10} {:>2} threads: {m:>8.3} s  speedup {:>5.2}  imbalance {:.3}",
+                row.mode, row.rng, row.threads, row.speedup, row.imbalance
+            ));
+            rows.push(row);
+            if scene_name == "final"
+                && !c.shared_rng
+                && c.threads == cores
+                && ["static", "steal"].contains(&c.mode)
+            {
+                timelines.push((c.mode.to_owned(), lanes(&last[k])));
             }
         }
     }
@@ -376,8 +398,8 @@ pub fn paper_table(spp: u32, threads: usize, mut log: impl FnMut(&str)) -> Resul
         let job = RenderJob::new(scene, settings);
         for (row, &(label, theirs, ours)) in PAPER_ROWS.iter().enumerate() {
             let threads = if row == 0 { 1 } else { threads };
-            let shared = with_shared.then(|| measure_row(&job, &theirs, threads, true, 1).0[0]);
-            let per_sample = measure_row(&job, &ours, threads, false, 1).0[0];
+            let shared = with_shared.then(|| measure_once(&job, &theirs, threads, true).0);
+            let per_sample = measure_once(&job, &ours, threads, false).0;
             let shared_text = shared.map_or("–".into(), |s| format!("{s:.1} s"));
             log(&format!(
                 "{scene_name:<7} depth {depth:<2} {label:<38} shared {shared_text:>9}   per-sample {per_sample:>8.1} s"

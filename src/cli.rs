@@ -40,7 +40,8 @@ pub enum Command {
     Scenes,
     /// Measure every mode at 1…2×CPUs threads on the benchmark scenes; write tables and plots.
     Bench {
-        /// Small images and 3 runs (under 2 minutes on 2 cores) instead of the full preset.
+        /// Small images and 3 runs, and the paper table at 2 spp (under 2 minutes on 2 cores),
+        /// instead of the full preset.
         #[arg(long, conflicts_with = "paper")]
         quick: bool,
         /// Instead: the seed paper's table at 1200 × 800 (paper-table.md). Long: at 500 spp
@@ -120,6 +121,9 @@ pub enum RngChoice {
     Shared,
 }
 
+/// Samples per pixel of the paper table that `raypool bench --quick` writes.
+const QUICK_PAPER_SPP: u32 = 2;
+
 /// Default tile side for the tiled modes, pixels.
 pub const DEFAULT_TILE: u32 = 16;
 
@@ -147,6 +151,13 @@ pub fn run(cli: Cli) -> Result<(), Error> {
             let command = if quick { "raypool bench --quick" } else { "raypool bench" };
             write_reports(&out_dir, &preset, &outcome, command)?;
             eprintln!("wrote {}/speedup.md, speedup.csv, speedup.png, timeline-*.png", out_dir.display());
+            if quick {
+                // A rough paper table too: 2 spp, scaled to the paper's 500 (labelled so).
+                let threads = default_threads();
+                let cells = crate::bench::paper_table(QUICK_PAPER_SPP, threads, |line| eprintln!("{line}"))?;
+                crate::bench::write_paper_table(&out_dir, &cells, QUICK_PAPER_SPP, threads, command)?;
+                eprintln!("wrote {}/paper-table.md (at {QUICK_PAPER_SPP} spp)", out_dir.display());
+            }
             Ok(())
         }
         Command::Scene { name, scene_seed } => {

@@ -98,9 +98,11 @@ impl Scheduler for Schedule {
         match self {
             Schedule::Serial => frame.rows().into_iter().map(|row| frame.render(row)).collect(),
             Schedule::StaticBlocks => {
-                let rows = frame.rows();
-                let per_thread = rows.len().div_ceil(t).max(1);
-                on_scoped_threads(frame, rows.chunks(per_thread).map(<[Tile]>::to_vec).collect())
+                // Block k holds rows [k·h/t, (k+1)·h/t): sizes differ by at most one row.
+                let (rows, parts) = (frame.rows(), t.min(frame.height() as usize));
+                let blocks =
+                    (0..parts).map(|k| rows[k * rows.len() / parts..(k + 1) * rows.len() / parts].to_vec());
+                on_scoped_threads(frame, blocks.collect())
             }
             Schedule::Interleaved => {
                 let rows = frame.rows();

@@ -108,3 +108,26 @@ fn shared_rng_renders_a_plausible_image_on_any_mode() {
         assert!(mean > 0.2 && mean < 1.0, "{schedule:?}: mean {mean}: sky and ground expected");
     }
 }
+
+#[test]
+fn static_blocks_differ_by_at_most_one_row() {
+    // 5 rows on 4 threads: blocks of 1, 1, 1 and 2 rows, not ceil(5/4) = 2 rows for 3 threads.
+    let settings = RenderSettings { width: 8, height: 5, spp: 1, max_depth: 4, seed: 1 };
+    let scene = raypool::builtin::builtin_scene("paper1", 0).unwrap().to_scene();
+    let rng = RngSource::PerSample(raypool::sampler::PerSample { seed: 1 });
+    let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 4, 4, Arc::new(|_| {})));
+    let rendered = render(&frame, &Schedule::StaticBlocks);
+    assert_eq!(rendered.threads_used(), 4);
+    let mut rows_per_thread: Vec<usize> = Vec::new();
+    let mut last_thread = None;
+    let mut timeline = rendered.timeline.clone();
+    timeline.sort_by_key(|(tile, _)| tile.y);
+    for (_, timing) in &timeline {
+        if last_thread != Some(timing.thread) {
+            rows_per_thread.push(0);
+            last_thread = Some(timing.thread);
+        }
+        *rows_per_thread.last_mut().unwrap() += 1;
+    }
+    assert_eq!(rows_per_thread, [1, 1, 1, 2], "contiguous blocks, in row order");
+}
