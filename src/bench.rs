@@ -48,7 +48,7 @@ impl Preset {
             name: "full",
             width: 400,
             spp: 32,
-            runs: 5,
+            runs: 7,
             scenes: vec![("final", 50), ("paper1", 10), ("paper2", 10), ("paper3", 10)],
             shared_rng_scenes: vec!["paper1", "final"],
         }
@@ -77,20 +77,24 @@ pub struct Row {
     pub rng: &'static str,
     /// Threads given to the scheduler.
     pub threads: usize,
-    /// Every run's wall time, seconds, sorted.
+    /// Every run's wall time, seconds, in round order.
     pub seconds: Vec<f64>,
     /// Rays cast in one run.
     pub rays: u64,
     /// Median load imbalance (busiest thread ÷ mean).
     pub imbalance: f64,
-    /// Serial median ÷ this median.
+    /// Speedup over serial: the median over rounds of (serial time ÷ this time) in the same
+    /// round, a ratio of two measurements taken seconds apart.
     pub speedup: f64,
+    /// Likewise, the median over rounds of (this time ÷ rayon's time at the same thread
+    /// count), when a rayon contender ran.
+    pub vs_rayon: Option<f64>,
 }
 
 impl Row {
     /// Median wall time, seconds.
     pub fn median(&self) -> f64 {
-        self.seconds[self.seconds.len() / 2]
+        median(&mut self.seconds.clone())
     }
 
     /// Speedup ÷ threads.
@@ -133,6 +137,11 @@ struct Config<'a> {
     scheduler: &'a dyn Scheduler,
     threads: usize,
     shared_rng: bool,
+}
+
+/// The median over rounds of `a[i] / b[i]`.
+fn paired_ratio(a: &[f64], b: &[f64]) -> f64 {
+    median(&mut a.iter().zip(b).map(|(x, y)| x / y).collect::<Vec<_>>())
 }
 
 fn median(values: &mut [f64]) -> f64 {
@@ -216,20 +225,21 @@ pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> R
             }
             log(&format!("{scene_name}: round {} of {} done", round + 1, preset.runs.max(1)));
         }
-        let serial = median(&mut seconds[0].clone());
         for (k, c) in configs.iter().enumerate() {
-            let mut runs = seconds[k].clone();
-            let m = median(&mut runs);
+            let rayon =
+                configs.iter().position(|r| r.mode == "rayon" && r.threads == c.threads && !r.shared_rng);
             let row = Row {
                 scene: scene_name,
                 mode: c.mode.to_owned(),
                 rng: if c.shared_rng { "shared" } else { "per-sample" },
                 threads: c.threads,
-                seconds: runs,
+                seconds: seconds[k].clone(),
                 rays: last[k].rays,
                 imbalance: median(&mut imbalances[k]),
-                speedup: serial / m,
+                speedup: paired_ratio(&seconds[0], &seconds[k]),
+                vs_rayon: rayon.map(|r| paired_ratio(&seconds[k], &seconds[r])),
             };
+            let m = row.median();
             log(&format!(
                 "{scene_name:<7} {:<12} {:<10} {:>2} threads: {m:>8.3} s  speedup {:>5.2}  imbalance {:.3}",
                 row.mode, row.rng, row.threads, row.speedup, row.imbalance
@@ -292,7 +302,7 @@ fn csv(outcome: &Outcome) -> String {
         let runs: Vec<String> = r.seconds.iter().map(|s| format!("{s:.4}")).collect();
         let _ = writeln!(
             out,
-            "{},{},{},{},{:.4},{},{:.3},{:.3},{:.3},{},{:.2}",
+            "{},{},{},{},{:.4},{},{:.3},{:.3},{},{:.3},{},{:.2}",
             r.scene,
             r.mode,
             r.rng,
@@ -301,6 +311,7 @@ fn csv(outcome: &Outcome) -> String {
             runs.join(" "),
             r.speedup,
             r.efficiency(),
+            r.vs_rayon.map_or(String::new(), |v| format!("{v:.4}")),
             r.imbalance,
             r.rays,
             r.rays as f64 / r.median() / 1e6
@@ -316,7 +327,10 @@ fn markdown(preset: &Preset, outcome: &Outcome, command: &str, machine: &Machine
     let _ = writeln!(
         md,
         "Each scene rendered {} wide at {} spp (height from its aspect), tiles of {DEFAULT_TILE} px; `final` at max depth 50 (the book's), the paper's figures at 10 (the paper's). \
-         Times are medians of {} runs. Speedup = serial median ÷ median; efficiency = speedup ÷ threads; \
+         The benchmark runs in {} rounds; each round renders every configuration once, so that a shared machine's \
+         drift over minutes hits every configuration alike. *median* is the median wall time; *speedup* is the median over rounds \
+         of serial ÷ this configuration within the same round, and *× rayon* the median of this ÷ rayon at the same thread count \
+         (both ratios of measurements taken seconds apart); efficiency = speedup ÷ threads; \
          imbalance = busiest thread's rendering time ÷ mean over the threads that rendered (1.000 = perfect). \
          Every per-sample row renders the same image, bit for bit.\n",
         preset.width, preset.spp, preset.runs
@@ -326,18 +340,19 @@ fn markdown(preset: &Preset, outcome: &Outcome, command: &str, machine: &Machine
         let _ = writeln!(md, "## {scene}\n");
         let _ = writeln!(
             md,
-            "| mode | rng | threads | median | speedup | efficiency | imbalance | Mrays/s |\n|---|---|---:|---:|---:|---:|---:|---:|"
+            "| mode | rng | threads | median | speedup | efficiency | × rayon | imbalance | Mrays/s |\n|---|---|---:|---:|---:|---:|---:|---:|---:|"
         );
         for r in outcome.rows.iter().filter(|r| r.scene == scene) {
             let _ = writeln!(
                 md,
-                "| {} | {} | {} | {:.3} s | {:.2} | {:.0}% | {:.3} | {:.2} |",
+                "| {} | {} | {} | {:.3} s | {:.2} | {:.0}% | {} | {:.3} | {:.2} |",
                 r.mode,
                 r.rng,
                 r.threads,
                 r.median(),
                 r.speedup,
                 100.0 * r.efficiency(),
+                r.vs_rayon.map_or("–".into(), |v| format!("{v:.3}")),
                 r.imbalance,
                 r.rays as f64 / r.median() / 1e6
             );
