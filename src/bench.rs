@@ -226,8 +226,9 @@ pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> R
             log(&format!("{scene_name}: round {} of {} done", round + 1, preset.runs.max(1)));
         }
         for (k, c) in configs.iter().enumerate() {
-            let rayon =
-                configs.iter().position(|r| r.mode == "rayon" && r.threads == c.threads && !r.shared_rng);
+            let rayon = configs
+                .iter()
+                .position(|r| r.mode == "rayon" && r.threads == c.threads && !r.shared_rng && !c.shared_rng);
             let row = Row {
                 scene: scene_name,
                 mode: c.mode.to_owned(),

@@ -11,7 +11,8 @@ pub struct Machine {
     pub cpu_model: String,
     /// UTC date, `YYYY-MM-DD`.
     pub date: String,
-    /// Short git commit of the working tree, `+dirty` if it has uncommitted changes.
+    /// Short git commit of the working tree, `+dirty` if code (anything outside `results/`)
+    /// has uncommitted changes.
     pub commit: String,
 }
 
@@ -28,8 +29,9 @@ impl Machine {
             })
             .unwrap_or_else(|| "unknown".into());
         let commit = command("git", &["rev-parse", "--short", "HEAD"]).unwrap_or_else(|| "unknown".into());
-        let dirty =
-            command("git", &["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+        // Uncommitted measurements under results/ do not make the measured code "dirty".
+        let status = ["status", "--porcelain", "--untracked-files=no", "--", ".", ":!results"];
+        let dirty = command("git", &status).is_some_and(|s| !s.is_empty());
         Machine {
             cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
             cpu_model,
