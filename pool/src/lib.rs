@@ -19,7 +19,7 @@
 //!
 //! # Reading order
 //!
-//! 1. [`queue`](crate::Discipline) (`queue.rs`): what a job is; the `JobQueue` interface.
+//! 1. `queue.rs`: what a job is; the `JobQueue` interface; [`Discipline`].
 //! 2. `locked.rs`: the textbook queue, a mutex and a condition variable.
 //! 3. `shared.rs`: the same with a channel; shutdown by disconnection.
 //! 4. `sleep.rs` then `steal.rs`: per-worker deques, stealing, sleeping without lost wake-ups.

@@ -1,7 +1,7 @@
 //! The locked queue: a `VecDeque` behind one mutex, with a condition variable for sleeping.
 //!
-//! The textbook pool (the Rust Book's chapter 21 uses a channel guarded by a mutex; this is
-//! the same idea without the channel). One lock protects both the jobs and the `closed`
+//! The textbook pool: a monitor. (The Rust Book's chapter 21 pool shares a channel's receiver
+//! behind a mutex; this is the same idea without the channel.) One lock protects both the jobs and the `closed`
 //! flag, which is what makes the sleep correct: a worker checks "no job and not closed" and
 //! goes to sleep *atomically* with respect to any push or close, because `Condvar::wait`
 //! releases the lock only once the worker is registered as waiting. No wake-up is lost.

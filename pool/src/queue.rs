@@ -53,7 +53,7 @@ pub enum Discipline {
     /// paper's thread pool. Every push and pop touches the same channel.
     #[default]
     Shared,
-    /// One `Mutex<VecDeque>` with a `Condvar`: the textbook pool (the Rust Book's), kept to
+    /// One `Mutex<VecDeque>` with a `Condvar`: the textbook monitor-based pool, kept to
     /// compare with the channel.
     Locked,
     /// One deque per worker: a worker takes from the front of its own and, when it is empty,

@@ -1,5 +1,5 @@
 //! Helpers shared by the pool's test files.
-#![allow(dead_code)] // each test file uses a subset
+#![allow(dead_code)] // each test file uses a subset of these
 
 use pool::Discipline;
 
