@@ -28,6 +28,11 @@ pub const BVH_MIN_SPHERES: usize = 6;
 
 /// Leaves hold at most this many spheres when splitting stops paying off.
 const MAX_LEAF: usize = 4;
+/// Below this depth nodes split at the median instead of by SAH, so that no scene can build
+/// a tree deeper than `SAH_DEPTH + log2(spheres)`, which the traversal stack always holds.
+const SAH_DEPTH: usize = 32;
+/// Traversal stack entries: one per level at most.
+const STACK: usize = 64;
 const BINS: usize = 16;
 
 /// An axis-aligned box.
@@ -59,12 +64,18 @@ impl Aabb {
     }
 
     /// Slab test: does the ray enter the box before `t_max`?
+    ///
+    /// The clamps are plain comparisons rather than `f32::max`/`min`, whose NaN handling
+    /// costs extra instructions on the hottest line of the renderer (profiled). The results
+    /// are the same, NaN included: a NaN `near` becomes 0 and a NaN `far` becomes `t_max`.
     #[inline]
     fn hit(&self, origin: Vec3, inv_dir: Vec3, t_max: Real) -> bool {
         let t0 = (self.min - origin) * inv_dir;
         let t1 = (self.max - origin) * inv_dir;
-        let near = t0.min(t1).max_element().max(0.0);
-        let far = t0.max(t1).min_element().min(t_max);
+        let near = t0.min(t1).max_element();
+        let far = t0.max(t1).min_element();
+        let near = if near > 0.0 { near } else { 0.0 };
+        let far = if far < t_max { far } else { t_max };
         near <= far
     }
 }
@@ -92,7 +103,7 @@ impl Bvh {
     pub fn build(spheres: &mut [Sphere]) -> Bvh {
         let mut nodes = Vec::with_capacity(2 * spheres.len() / MAX_LEAF + 1);
         if !spheres.is_empty() {
-            build_node(spheres, 0, &mut nodes);
+            build_node(spheres, 0, 0, &mut nodes);
         }
         Bvh { nodes }
     }
@@ -102,6 +113,17 @@ impl Bvh {
         self.nodes.len()
     }
 
+    /// Levels from the root to the deepest leaf (1 for a single leaf; 0 when empty).
+    pub fn depth(&self) -> usize {
+        fn below(nodes: &[Node], at: usize) -> usize {
+            match nodes[at].count {
+                0 => 1 + below(nodes, at + 1).max(below(nodes, nodes[at].index as usize)),
+                _ => 1,
+            }
+        }
+        if self.nodes.is_empty() { 0 } else { below(&self.nodes, 0) }
+    }
+
     /// The closest sphere hit before `t_max`: `(index into spheres, t)`.
     #[inline]
     pub fn hit(&self, spheres: &[Sphere], ray: &Ray, t_max: Real) -> Option<(usize, Real)> {
@@ -109,7 +131,7 @@ impl Bvh {
         let from_negative = [ray.dir.x < 0.0, ray.dir.y < 0.0, ray.dir.z < 0.0];
         let mut closest = t_max;
         let mut found = None;
-        let mut stack = [0u32; 64];
+        let mut stack = [0u32; STACK];
         let mut depth = 0;
         let mut node = 0usize;
         loop {
@@ -145,20 +167,32 @@ impl Bvh {
     }
 }
 
-/// Builds the subtree over `spheres` (which start at index `first` of the scene's array),
-/// appending its nodes depth-first; returns nothing, the subtree's root is the first node
-/// appended.
-fn build_node(spheres: &mut [Sphere], first: usize, nodes: &mut Vec<Node>) {
+/// Builds the subtree over `spheres` (which start at index `first` of the scene's array) at
+/// `depth`, appending its nodes depth-first: the subtree's root is the first node appended.
+fn build_node(spheres: &mut [Sphere], first: usize, depth: usize, nodes: &mut Vec<Node>) {
     let bounds = spheres.iter().map(Aabb::of_sphere).fold(Aabb::EMPTY, Aabb::union);
     let at = nodes.len();
     nodes.push(Node { bounds, index: first as u32, count: spheres.len() as u16, axis: 0 });
-    let Some((axis, mid)) = choose_split(spheres, &bounds) else { return };
+    let split = if depth < SAH_DEPTH { choose_split(spheres, &bounds) } else { median_split(spheres) };
+    let Some((axis, mid)) = split else { return };
     nodes[at].axis = axis as u8;
     nodes[at].count = 0;
     let (left, right) = spheres.split_at_mut(mid);
-    build_node(left, first, nodes);
+    build_node(left, first, depth + 1, nodes);
     nodes[at].index = nodes.len() as u32;
-    build_node(right, first + mid, nodes);
+    build_node(right, first + mid, depth + 1, nodes);
+}
+
+/// Halves `spheres` at the median centre along their widest axis; `None` for a leaf.
+fn median_split(spheres: &mut [Sphere]) -> Option<(usize, usize)> {
+    if spheres.len() <= MAX_LEAF {
+        return None;
+    }
+    let centroids = spheres.iter().fold(Aabb::EMPTY, |b, s| b.grow(s.center));
+    let axis = (centroids.max - centroids.min).max_position();
+    let mid = spheres.len() / 2;
+    spheres.select_nth_unstable_by(mid, |a, b| a.center[axis].total_cmp(&b.center[axis]));
+    Some((axis, mid))
 }
 
 /// The best SAH split as `(axis, number of spheres on the left)`, having partitioned

@@ -79,3 +79,32 @@ fn small_scenes_skip_the_bvh() {
         assert!(!builtin_scene(name, 0).unwrap().to_scene().has_bvh(), "{name}");
     }
 }
+
+#[test]
+fn pathological_spacing_builds_a_bounded_tree() {
+    // Centres at 1.2^k: each sphere lies beyond the 15/16 mark of everything before it, so
+    // every SAH split can peel off a single sphere, making the tree n deep. The traversal
+    // stack holds 64 entries: the build must bound the depth. (x stays below 1e15: squared
+    // distances beyond ~1e19 overflow f32.)
+    let spheres: Vec<Sphere> = (0..180)
+        .map(|k| {
+            let x = 1.2f64.powi(k) as Real;
+            Sphere { center: Vec3::new(x, 0.0, 0.0), radius: 0.05 * x, material: 0 }
+        })
+        .collect();
+    let mut copy = spheres.clone();
+    let bvh = Bvh::build(&mut copy);
+    assert!(bvh.depth() <= 64, "depth {} overflows the traversal stack", bvh.depth());
+    for sphere in &spheres {
+        // Straight down onto each sphere's top, from one radius above it.
+        let (c, r) = (sphere.center, sphere.radius);
+        let ray = Ray::new(Vec3::new(c.x, 2.0 * r, 0.0), Vec3::new(0.0, -1.0, 0.0));
+        let hit = bvh.hit(&copy, &ray, Real::INFINITY).unwrap_or_else(|| {
+            panic!("sphere at {c:?} r {r} missed; brute force: {:?}", brute_force(&copy, &ray))
+        });
+        assert_eq!(Some(hit.1), brute_force(&copy, &ray).map(|h| h.1));
+    }
+    // A ray along the whole row must visit every level without overflowing.
+    let along = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
+    assert_eq!(bvh.hit(&copy, &along, Real::INFINITY).map(|h| h.1), brute_force(&copy, &along).map(|h| h.1));
+}
