@@ -13,7 +13,7 @@ use crate::bench::{Preset, write_reports};
 use crate::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::error::Error;
 use crate::frame::{Frame, RngSource};
-use crate::output::PendingOutput;
+use crate::output::{PendingOutput, io_reason};
 use crate::render::{RenderJob, RenderSettings};
 use crate::sampler::{PerSample, SharedRng};
 use crate::scene_file::SceneFile;
@@ -54,6 +54,16 @@ pub enum Command {
         /// Where to write speedup.md, speedup.csv and the plots.
         #[arg(long, default_value = "results", value_name = "DIR")]
         out_dir: PathBuf,
+    },
+    /// Compare two PFM images: RMSE, relative MSE, mean absolute error, largest error, PSNR.
+    Compare {
+        /// The image to judge.
+        image: PathBuf,
+        /// The reference.
+        reference: PathBuf,
+        /// Write a false-colour map of each pixel's error (PNG).
+        #[arg(long, value_name = "PNG")]
+        diff: Option<PathBuf>,
     },
     /// Print a scene as TOML (e.g. `raypool scene final > final.toml`).
     Scene {
@@ -160,6 +170,14 @@ pub fn run(cli: Cli) -> Result<(), Error> {
             }
             Ok(())
         }
+        Command::Compare { image, reference, diff } => {
+            let m = crate::compare::compare_files(&image, &reference, diff.as_deref())?;
+            println!(
+                "rmse {:.6}  rel_mse {:.6}  mae {:.6}  max {:.6}  psnr {:.2} dB",
+                m.rmse, m.rel_mse, m.mae, m.max_error, m.psnr
+            );
+            Ok(())
+        }
         Command::Scene { name, scene_seed } => {
             print!("{}", builtin_scene(&name, scene_seed)?.to_toml());
             Ok(())
@@ -172,7 +190,7 @@ pub fn load_scene(args: &RenderArgs) -> Result<SceneFile, Error> {
     match &args.scene_file {
         Some(path) => {
             let text = std::fs::read_to_string(path).map_err(|e| {
-                Error::new(format!("cannot read scene file '{}': {}", path.display(), e.kind()))
+                Error::new(format!("cannot read scene file '{}': {}", path.display(), io_reason(&e)))
             })?;
             SceneFile::parse(&text, &path.display().to_string())
         }

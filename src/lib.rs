@@ -23,6 +23,7 @@
 //! | [`plot`] | speedup and timeline charts |
 //! | [`machine`] | names the machine, commit and date of a measurement |
 //! | [`bench`] | the speedup benchmark (`raypool bench`) |
+//! | [`compare`] | error figures of an image against a reference |
 //! | [`cli`] | the `raypool` command |
 
 #![forbid(unsafe_code)]
@@ -34,6 +35,7 @@ pub mod builtin;
 pub mod bvh;
 pub mod camera;
 pub mod cli;
+pub mod compare;
 pub mod conformance;
 pub mod error;
 pub mod frame;

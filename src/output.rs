@@ -168,7 +168,8 @@ pub fn read_pfm(bytes: &[u8]) -> Result<(u32, u32, Vec<[f32; 3]>), String> {
     Ok((w, h, rows.concat()))
 }
 
-fn io_reason(e: &std::io::Error) -> String {
+/// An I/O error's message without the trailing "(os error N)".
+pub(crate) fn io_reason(e: &std::io::Error) -> String {
     // The io::Error Display adds "(os error N)"; the kind's description reads better.
     let text = e.to_string();
     text.split(" (os error").next().unwrap_or(&text).to_owned()

@@ -159,3 +159,39 @@ fn bad_scene_files_exit_2_with_location() {
     }
     assert_rejected(&dir, &["render", "--scene-file", "missing.toml", "--out", "x.png"], "missing.toml");
 }
+
+#[test]
+fn compare_reports_error_figures_and_writes_a_difference_map() {
+    let dir = scratch("compare");
+    for (name, spp) in [("noisy.pfm", "2"), ("ref.pfm", "32")] {
+        let out =
+            raypool(&["render", "--scene", "paper1", "--width", "30", "--spp", spp, "--out", name], &dir);
+        assert!(out.status.success());
+    }
+    let same = raypool(&["compare", "ref.pfm", "ref.pfm"], &dir);
+    let text = String::from_utf8_lossy(&same.stdout);
+    assert!(text.contains("rmse 0.000000") && text.contains("psnr inf"), "{text}");
+    let noisy = raypool(&["compare", "noisy.pfm", "ref.pfm", "--diff", "diff.png"], &dir);
+    let text = String::from_utf8_lossy(&noisy.stdout);
+    let rmse: f64 = text.split_whitespace().nth(1).and_then(|v| v.parse().ok()).expect("rmse printed");
+    assert!(rmse > 0.001 && rmse < 0.5, "2 spp against 32 spp: {text}");
+    let diff = image::open(dir.join("diff.png")).expect("a PNG difference map");
+    assert_eq!((diff.width(), diff.height()), (30, 20));
+}
+
+#[test]
+fn compare_rejects_bad_inputs() {
+    let dir = scratch("compare-bad");
+    for (name, width) in [("a.pfm", "30"), ("b.pfm", "20")] {
+        assert!(
+            raypool(&["render", "--width", width, "--spp", "1", "--depth", "2", "--out", name], &dir)
+                .status
+                .success()
+        );
+    }
+    std::fs::write(dir.join("text.pfm"), "not an image").unwrap();
+    assert_rejected(&dir, &["compare", "a.pfm", "b.pfm"], "sizes differ");
+    assert_rejected(&dir, &["compare", "a.pfm", "missing.pfm"], "missing.pfm");
+    assert_rejected(&dir, &["compare", "a.pfm", "text.pfm"], "not a PFM image");
+    assert_rejected(&dir, &["compare", "a.pfm", "a.pfm", "--diff", "no/dir/d.png"], "no/dir/d.png");
+}
