@@ -1,0 +1,96 @@
+//! `cargo bench --bench trace`: micro-benchmarks of the three innermost operations of the
+//! tracer, on inputs drawn once up front so that only the operation is timed. Every result
+//! goes through `black_box`: a result left unused lets the optimiser delete the work.
+//!
+//! - `sphere/*`: the stable ray–sphere test, for rays that hit and rays that miss;
+//! - `bvh/final`: the closest hit of random rays in the book's final scene, through the BVH,
+//!   and `flat/final` the same rays testing every sphere (what the BVH saves);
+//! - `scatter/*`: one scattering event per material.
+
+use std::hint::black_box;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use rand::rngs::SmallRng;
+use rand::{RngExt, SeedableRng};
+use raypool::builtin::builtin_scene;
+use raypool::bvh::Bvh;
+use raypool::material::Material;
+use raypool::ray::Ray;
+use raypool::real::{Real, Vec3};
+use raypool::sampler::random_unit_vector;
+use raypool::sphere::{Hit, Sphere};
+
+const RAYS: usize = 4096;
+
+fn rays_towards(rng: &mut SmallRng, from: Vec3, spread: Real, aim: Vec3) -> Vec<Ray> {
+    (0..RAYS).map(|_| Ray::new(from, aim - from + spread * random_unit_vector(rng))).collect()
+}
+
+fn sphere_tests(c: &mut Criterion) {
+    let mut rng = SmallRng::seed_from_u64(1);
+    let sphere = Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 };
+    let hits = rays_towards(&mut rng, Vec3::new(0.0, 0.0, 5.0), 0.5, Vec3::ZERO);
+    let misses = rays_towards(&mut rng, Vec3::new(0.0, 0.0, 5.0), 0.5, Vec3::new(3.0, 0.0, 0.0));
+    let mut group = c.benchmark_group("sphere");
+    group.throughput(Throughput::Elements(RAYS as u64));
+    for (name, rays) in [("hit", &hits), ("miss", &misses)] {
+        group.bench_function(name, |b| {
+            b.iter(|| rays.iter().for_each(|r| _ = black_box(sphere.intersect(black_box(r), Real::INFINITY))))
+        });
+    }
+    group.finish();
+}
+
+fn traversal(c: &mut Criterion) {
+    let scene = builtin_scene("final", 2026).expect("final builds").to_scene();
+    let mut spheres = scene.spheres().to_vec();
+    let bvh = Bvh::build(&mut spheres);
+    let mut rng = SmallRng::seed_from_u64(2);
+    // Camera-like rays from the book's viewpoint into the scene.
+    let rays = rays_towards(&mut rng, Vec3::new(13.0, 2.0, 3.0), 4.0, Vec3::ZERO);
+    let mut group = c.benchmark_group("closest-hit");
+    group.throughput(Throughput::Elements(RAYS as u64));
+    group.bench_function("bvh/final", |b| {
+        b.iter(|| rays.iter().for_each(|r| _ = black_box(bvh.hit(&spheres, black_box(r), Real::INFINITY))))
+    });
+    group.bench_function("flat/final", |b| {
+        b.iter(|| {
+            rays.iter().for_each(|r| {
+                let mut closest = Real::INFINITY;
+                for s in &spheres {
+                    if let Some(t) = s.intersect(black_box(r), closest) {
+                        closest = t;
+                    }
+                }
+                black_box(closest);
+            })
+        })
+    });
+    group.finish();
+}
+
+fn scattering(c: &mut Criterion) {
+    let mut rng = SmallRng::seed_from_u64(3);
+    let hit = Hit { t: 1.0, point: Vec3::ZERO, normal: Vec3::Y, front_face: true, material: 0, offset: 1e-6 };
+    let incoming: Vec<Vec3> = (0..RAYS)
+        .map(|_| (Vec3::new(rng.random::<Real>() - 0.5, -1.0, rng.random::<Real>() - 0.5)).normalize())
+        .collect();
+    let materials = [
+        ("lambertian", Material::Lambertian { albedo: Vec3::splat(0.5) }),
+        ("metal", Material::Metal { albedo: Vec3::splat(0.8), fuzz: 0.3 }),
+        ("dielectric", Material::Dielectric { ior: 1.5 }),
+    ];
+    let mut group = c.benchmark_group("scatter");
+    group.throughput(Throughput::Elements(RAYS as u64));
+    for (name, material) in materials {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                incoming.iter().for_each(|&d| _ = black_box(material.scatter(black_box(d), &hit, &mut rng)))
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, sphere_tests, traversal, scattering);
+criterion_main!(benches);
