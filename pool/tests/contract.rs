@@ -242,8 +242,28 @@ fn empty_batch_returns_at_once() {
 fn stealing_balances_an_uneven_batch() {
     let pool =
         ThreadPool::builder().workers(2).discipline(Discipline::Stealing).instrument(true).build().unwrap();
-    // Dealt as [0..50) to worker 0 and [50..100) to worker 1; the first half is all the work.
-    pool.batch((0..100u64).map(|i| move || spin(if i < 50 { 400 } else { 0 })));
+    // Dealt as [0..50) to worker 0 and [50..100) to worker 1. Job 0 holds worker 0 until job 1
+    // has run; job 1 sits behind it in worker 0's own deque, so only a thief can run it: the
+    // test does not depend on how the OS schedules the two workers.
+    let job1_ran = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let waited = pool.batch((0..100u64).map(|i| {
+        let job1_ran = Arc::clone(&job1_ran);
+        move || match i {
+            0 => {
+                let deadline = std::time::Instant::now() + Duration::from_secs(10);
+                while !job1_ran.load(Relaxed) && std::time::Instant::now() < deadline {
+                    std::thread::yield_now();
+                }
+                job1_ran.load(Relaxed)
+            }
+            1 => {
+                job1_ran.store(true, Relaxed);
+                true
+            }
+            _ => true,
+        }
+    }));
+    assert!(waited[0], "job 1 was never stolen from behind the blocked job 0");
     let stats = pool.stats();
     assert!(stats.workers[1].jobs_stolen > 0, "worker 1 ran dry and must have stolen: {stats:?}");
     let spans = pool.take_trace();
