@@ -167,6 +167,40 @@ fn lanes(rendered: &Rendered) -> Lanes {
     lanes
 }
 
+/// Every configuration measured on one scene: serial, each contender at each thread count,
+/// and (for `shared_rng_rows`) the shared-generator rows of the paper's ablation.
+fn configurations<'a>(
+    builtins: &'a [Contender],
+    extra: &'a [Contender],
+    thread_counts: &[usize],
+    shared_rng_rows: bool,
+) -> Vec<Config<'a>> {
+    let mut configs =
+        vec![Config { mode: "serial", scheduler: &Schedule::Serial, threads: 1, shared_rng: false }];
+    for contender in builtins.iter().chain(extra) {
+        for &threads in thread_counts {
+            configs.push(Config {
+                mode: &contender.name,
+                scheduler: contender.scheduler,
+                threads,
+                shared_rng: false,
+            });
+        }
+    }
+    if shared_rng_rows {
+        configs.push(Config { mode: "serial", scheduler: &Schedule::Serial, threads: 1, shared_rng: true });
+        for &threads in thread_counts.iter().filter(|&&t| t > 1) {
+            configs.push(Config {
+                mode: "static",
+                scheduler: &Schedule::StaticBlocks,
+                threads,
+                shared_rng: true,
+            });
+        }
+    }
+    configs
+}
+
 /// Runs the benchmark: the built-in modes plus `extra` contenders (e.g. a rayon baseline).
 /// `log` receives one line per measured configuration.
 pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> Result<Outcome, Error> {
@@ -182,34 +216,8 @@ pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> R
         let settings =
             RenderSettings { width: preset.width, height, spp: preset.spp, max_depth: depth, seed: 1 };
         let job = RenderJob::new(scene.to_scene(), settings);
-        let mut configs =
-            vec![Config { mode: "serial", scheduler: &Schedule::Serial, threads: 1, shared_rng: false }];
-        for contender in builtins.iter().chain(extra) {
-            for &threads in &thread_counts {
-                configs.push(Config {
-                    mode: &contender.name,
-                    scheduler: contender.scheduler,
-                    threads,
-                    shared_rng: false,
-                });
-            }
-        }
-        if preset.shared_rng_scenes.contains(&scene_name) {
-            configs.push(Config {
-                mode: "serial",
-                scheduler: &Schedule::Serial,
-                threads: 1,
-                shared_rng: true,
-            });
-            for &threads in thread_counts.iter().filter(|&&t| t > 1) {
-                configs.push(Config {
-                    mode: "static",
-                    scheduler: &Schedule::StaticBlocks,
-                    threads,
-                    shared_rng: true,
-                });
-            }
-        }
+        let configs =
+            configurations(&builtins, extra, &thread_counts, preset.shared_rng_scenes.contains(&scene_name));
         // Round-robin: each round runs every configuration once, so a machine that slows down
         // or speeds up over the minutes of a benchmark affects every configuration alike.
         let mut seconds = vec![Vec::new(); configs.len()];
