@@ -7,6 +7,7 @@
 
 use crate::camera::Camera;
 use crate::frame::TileTiming;
+use crate::ray::Ray;
 use crate::real::{Real, Vec3};
 use crate::sampler::RandomStreams;
 use crate::scene::Scene;
@@ -108,7 +109,7 @@ pub fn render_tile<S: RandomStreams>(job: &RenderJob, streams: &S, tile: Tile) -
 /// of rays cast to `rays`.
 pub fn trace<R: rand::Rng + ?Sized>(
     scene: &Scene,
-    mut ray: crate::ray::Ray,
+    mut ray: Ray,
     max_depth: u32,
     rng: &mut R,
     rays: &mut u64,
