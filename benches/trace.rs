@@ -51,7 +51,11 @@ fn traversal(c: &mut Criterion) {
     let mut group = c.benchmark_group("closest-hit");
     group.throughput(Throughput::Elements(RAYS as u64));
     group.bench_function("bvh/final", |b| {
-        b.iter(|| rays.iter().for_each(|r| _ = black_box(bvh.hit(&spheres, black_box(r), Real::INFINITY))))
+        b.iter(|| {
+            rays.iter().for_each(|r| {
+                _ = black_box(bvh.hit(&spheres, black_box(r), Real::INFINITY, Sphere::intersect))
+            })
+        })
     });
     group.bench_function("flat/final", |b| {
         b.iter(|| {

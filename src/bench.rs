@@ -213,8 +213,14 @@ pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> R
     for &(scene_name, depth) in &preset.scenes {
         let scene = builtin_scene(scene_name, DEFAULT_SCENE_SEED)?;
         let height = default_height(preset.width, scene.camera.aspect)?;
-        let settings =
-            RenderSettings { width: preset.width, height, spp: preset.spp, max_depth: depth, seed: 1 };
+        let settings = RenderSettings {
+            width: preset.width,
+            height,
+            spp: preset.spp,
+            max_depth: depth,
+            seed: 1,
+            ..Default::default()
+        };
         let job = RenderJob::new(scene.to_scene(), settings);
         let configs =
             configurations(&builtins, extra, &thread_counts, preset.shared_rng_scenes.contains(&scene_name));
@@ -418,7 +424,8 @@ pub fn paper_table(spp: u32, threads: usize, mut log: impl FnMut(&str)) -> Resul
     let configs = PAPER.iter().map(|p| (p.0, 10, true)).chain([("final", 50, false)]);
     for (scene_name, depth, with_shared) in configs {
         let scene = builtin_scene(scene_name, DEFAULT_SCENE_SEED)?.to_scene();
-        let settings = RenderSettings { width: 1200, height: 800, spp, max_depth: depth, seed: 1 };
+        let settings =
+            RenderSettings { width: 1200, height: 800, spp, max_depth: depth, seed: 1, ..Default::default() };
         let job = RenderJob::new(scene, settings);
         for (row, &(label, theirs, ours)) in PAPER_ROWS.iter().enumerate() {
             let threads = if row == 0 { 1 } else { threads };

@@ -124,9 +124,16 @@ impl Bvh {
         if self.nodes.is_empty() { 0 } else { below(&self.nodes, 0) }
     }
 
-    /// The closest sphere hit before `t_max`: `(index into spheres, t)`.
+    /// The closest sphere hit before `t_max`, as found by `test` (normally
+    /// [`Sphere::intersect`]): `(index into spheres, t)`.
     #[inline]
-    pub fn hit(&self, spheres: &[Sphere], ray: &Ray, t_max: Real) -> Option<(usize, Real)> {
+    pub fn hit(
+        &self,
+        spheres: &[Sphere],
+        ray: &Ray,
+        t_max: Real,
+        test: impl Fn(&Sphere, &Ray, Real) -> Option<Real>,
+    ) -> Option<(usize, Real)> {
         let inv_dir = ray.dir.recip();
         let from_negative = [ray.dir.x < 0.0, ray.dir.y < 0.0, ray.dir.z < 0.0];
         let mut closest = t_max;
@@ -140,7 +147,7 @@ impl Bvh {
                 if n.count > 0 {
                     let first = n.index as usize;
                     for (k, sphere) in spheres[first..first + n.count as usize].iter().enumerate() {
-                        if let Some(t) = sphere.intersect(ray, closest) {
+                        if let Some(t) = test(sphere, ray, closest) {
                             closest = t;
                             found = Some(first + k);
                         }

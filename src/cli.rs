@@ -14,7 +14,8 @@ use crate::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::error::Error;
 use crate::frame::{Frame, RngSource};
 use crate::output::{PendingOutput, io_reason};
-use crate::render::{RenderJob, RenderSettings};
+use crate::real::Real;
+use crate::render::{Adaptive, RenderJob, RenderSettings};
 use crate::sampler::{PerSample, SharedRng};
 use crate::scene_file::SceneFile;
 use crate::schedule::{Schedule, render};
@@ -94,8 +95,22 @@ pub struct RenderArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
     pub height: Option<u32>,
     /// Samples per pixel.
-    #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "target_error")]
     pub spp: u32,
+    /// Adaptive sampling: stop sampling a pixel once the relative standard error of its mean
+    /// luminance is below this (e.g. 0.02), checked every --min-spp samples.
+    #[arg(long, value_name = "E", value_parser = positive_fraction, allow_negative_numbers = true)]
+    pub target_error: Option<f64>,
+    /// With --target-error: samples every pixel takes first, and per pass.
+    #[arg(long, default_value_t = 16, requires = "target_error", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub min_spp: u32,
+    /// With --target-error: the most samples a pixel takes.
+    #[arg(long, default_value_t = 1024, requires = "target_error", value_parser = clap::value_parser!(u32).range(1..))]
+    pub max_spp: u32,
+    /// Russian roulette: after 4 rays, continue a path with probability equal to its
+    /// brightest throughput channel (unbiased; changes the noise, not the mean).
+    #[arg(long)]
+    pub roulette: bool,
     /// Maximum rays per path, camera ray included (the book's max_depth).
     #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=10_000))]
     pub depth: u32,
@@ -204,8 +219,7 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
         Some(h) => h,
         None => default_height(args.width, scene.camera.aspect)?,
     };
-    let settings =
-        RenderSettings { width: args.width, height, spp: args.spp, max_depth: args.depth, seed: args.seed };
+    let settings = render_settings(args, height)?;
     let threads = args.threads.map_or_else(default_threads, |t| t as usize);
     let output = PendingOutput::create(&args.out)?; // fail fast, before the long part
     let rng = match args.rng {
@@ -232,13 +246,57 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
         "{}x{}, {} spp, depth {}, mode {mode}, threads {threads_used}: {seconds:.3} s, {} rays, {:.2} Mrays/s -> {}",
         settings.width,
         settings.height,
-        settings.spp,
+        spp_summary(&settings, rendered.samples),
         settings.max_depth,
         rendered.rays,
         rendered.rays as f64 / seconds / 1e6,
         args.out.display()
     );
     Ok(())
+}
+
+/// "32" for uniform sampling; "mean 41.3 of 16..1024" for adaptive sampling.
+fn spp_summary(settings: &RenderSettings, samples: u64) -> String {
+    match settings.adaptive {
+        None => settings.spp.to_string(),
+        Some(a) => {
+            let mean = samples as f64 / (settings.width as f64 * settings.height as f64);
+            format!("mean {mean:.1} of {}..{}", a.min_spp, settings.spp)
+        }
+    }
+}
+
+/// The render settings the flags ask for.
+fn render_settings(args: &RenderArgs, height: u32) -> Result<RenderSettings, Error> {
+    let adaptive = match args.target_error {
+        Some(target_error) if args.min_spp > args.max_spp => {
+            return Err(Error::new(format!(
+                "--min-spp {} is above --max-spp {} (with --target-error {target_error})",
+                args.min_spp, args.max_spp
+            )));
+        }
+        Some(target_error) => Some(Adaptive { target_error: target_error as Real, min_spp: args.min_spp }),
+        None => None,
+    };
+    Ok(RenderSettings {
+        width: args.width,
+        height,
+        spp: if adaptive.is_some() { args.max_spp } else { args.spp },
+        max_depth: args.depth,
+        seed: args.seed,
+        roulette: args.roulette,
+        adaptive,
+        ..RenderSettings::default()
+    })
+}
+
+/// Parses a target error: a number in (0, 1].
+fn positive_fraction(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(e) if e > 0.0 && e <= 1.0 => Ok(e),
+        Ok(_) => Err("must be above 0 and at most 1".to_string()),
+        Err(_) => Err("not a number".to_string()),
+    }
 }
 
 /// The height that gives `aspect` (width ÷ height) at `width`, at least 1 pixel.

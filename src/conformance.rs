@@ -38,7 +38,8 @@ pub fn check(scheduler: &dyn Scheduler, threads: usize) -> Result<(), String> {
 
 /// The small frame the check renders: the book's final scene, 61 × 37, 2 spp, depth 8.
 pub fn test_frame(threads: usize) -> Arc<Frame> {
-    let settings = RenderSettings { width: 61, height: 37, spp: 2, max_depth: 8, seed: 42 };
+    let settings =
+        RenderSettings { width: 61, height: 37, spp: 2, max_depth: 8, seed: 42, ..Default::default() };
     let scene = builtin_scene("final", 7).expect("the final scene builds").to_scene();
     let rng = RngSource::PerSample(PerSample { seed: settings.seed });
     Arc::new(Frame::new(RenderJob::new(scene, settings), rng, threads, 7, Arc::new(|_| {})))

@@ -15,10 +15,13 @@ fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
         Err(e) => {
-            // clap's first line names the problem; its usage block follows. Keep the line.
+            // clap names the problem in its first paragraph (one line, or a line ending in ':'
+            // followed by the missing arguments); a usage block follows. Keep the paragraph.
             let text = e.render().to_string();
-            let first = text.lines().next().unwrap_or("invalid command line");
-            eprintln!("raypool: error: {}", first.trim_start_matches("error: "));
+            let problem: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
+            let problem = problem.join(" ");
+            let problem = if problem.is_empty() { "invalid command line" } else { &problem };
+            eprintln!("raypool: error: {}", problem.trim_start_matches("error: "));
             return ExitCode::from(2);
         }
     };

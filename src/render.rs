@@ -9,22 +9,123 @@ use crate::camera::Camera;
 use crate::frame::TileTiming;
 use crate::ray::Ray;
 use crate::real::{Real, Vec3};
-use crate::sampler::RandomStreams;
+use crate::sampler::{RandomStreams, uniform};
 use crate::scene::Scene;
 
 /// Image size and sampling parameters of one render.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+///
+/// ```
+/// use raypool::render::RenderSettings;
+/// let settings = RenderSettings { width: 64, height: 48, spp: 8, ..RenderSettings::default() };
+/// assert!(settings.stop_black_paths && !settings.roulette && settings.adaptive.is_none());
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RenderSettings {
     /// Image width, pixels.
     pub width: u32,
     /// Image height, pixels.
     pub height: u32,
-    /// Samples per pixel.
+    /// Samples per pixel; with [`RenderSettings::adaptive`], the most a pixel may take.
     pub spp: u32,
     /// Maximum rays per path (camera ray included): the book's `max_depth`.
     pub max_depth: u32,
     /// Seed of every pixel sample's random stream.
     pub seed: u64,
+    /// End a path whose throughput is exactly black: nothing it meets can add light, so
+    /// the image is unchanged (only fewer rays are cast). On by default.
+    pub stop_black_paths: bool,
+    /// Russian roulette after [`ROULETTE_AFTER`] rays: a path survives with probability
+    /// `p` = its largest throughput channel (at most 0.95) and is weighted by `1/p`, so the
+    /// mean image is unchanged while dim paths end early. Off by default (it changes the
+    /// noise, so images differ from those without it).
+    pub roulette: bool,
+    /// Adaptive sampling; `None` for `spp` samples in every pixel.
+    pub adaptive: Option<Adaptive>,
+}
+
+impl Default for RenderSettings {
+    /// The command line's defaults: 400 × 267, 32 spp, depth 50, seed 1.
+    fn default() -> RenderSettings {
+        RenderSettings {
+            width: 400,
+            height: 267,
+            spp: 32,
+            max_depth: 50,
+            seed: 1,
+            stop_black_paths: true,
+            roulette: false,
+            adaptive: None,
+        }
+    }
+}
+
+/// Russian roulette starts once a path has cast this many rays (its first bounces are
+/// where most of its light comes from, so they are never cut).
+pub const ROULETTE_AFTER: u32 = 4;
+
+/// Adaptive sampling: each pixel is sampled in passes of `min_spp` samples, and stops once
+/// the estimated relative standard error of its mean luminance falls below `target_error`
+/// (or it reaches the settings' `spp`).
+///
+/// A pixel's decision depends only on its own samples, whose random streams depend only on
+/// (seed, pixel, sample), so the image stays identical whatever the scheduler.
+///
+/// ```
+/// use raypool::render::Adaptive;
+/// use raypool::render::LuminanceStats;
+/// let adaptive = Adaptive { target_error: 0.02, min_spp: 16 };
+/// let mut steady = LuminanceStats::default();
+/// (0..16).for_each(|_| steady.push(0.5));
+/// assert!(adaptive.done(&steady), "sixteen equal samples: zero error");
+/// let mut noisy = LuminanceStats::default();
+/// (0..16).for_each(|k| noisy.push(if k % 2 == 0 { 0.0 } else { 1.0 }));
+/// assert!(!adaptive.done(&noisy), "a standard error of 0.13 on a mean of 0.5");
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Adaptive {
+    /// Target relative standard error of each pixel's mean luminance (e.g. 0.02).
+    pub target_error: Real,
+    /// Samples every pixel takes first, and the size of each further pass.
+    pub min_spp: u32,
+}
+
+/// Running sums of one pixel's sample luminances, for its standard error.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LuminanceStats {
+    n: u32,
+    sum: f64,
+    sum_sq: f64,
+}
+
+impl LuminanceStats {
+    /// Counts one more sample, of luminance `l`.
+    pub fn push(&mut self, l: Real) {
+        let l = f64::from(l);
+        (self.n, self.sum, self.sum_sq) = (self.n + 1, self.sum + l, self.sum_sq + l * l);
+    }
+}
+
+/// Below this mean luminance a pixel's error is judged against this value instead: a
+/// relative error of a nearly black pixel is neither measurable nor visible.
+const DARK: f64 = 0.05;
+
+impl Adaptive {
+    /// Whether a pixel with these statistics has been sampled enough.
+    pub fn done(&self, stats: &LuminanceStats) -> bool {
+        let n = f64::from(stats.n);
+        if stats.n < self.min_spp.max(2) {
+            return false;
+        }
+        let mean = stats.sum / n;
+        let variance = ((stats.sum_sq - stats.sum * mean) / (n - 1.0)).max(0.0);
+        let standard_error = (variance / n).sqrt();
+        standard_error <= f64::from(self.target_error) * mean.max(DARK)
+    }
+}
+
+/// Rec. 709 luminance of a linear RGB value.
+fn luminance(c: Vec3) -> Real {
+    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
 
 /// A rectangle of pixels: columns `x..x + width`, rows `y..y + height` (row 0 at the top).
@@ -61,6 +162,8 @@ pub struct TileOutput {
     pub pixels: Vec<Vec3>,
     /// Every ray cast: camera rays and each bounce.
     pub rays: u64,
+    /// Camera samples taken (`spp × area`, or fewer with adaptive sampling).
+    pub samples: u64,
     /// Which thread rendered it, and when (set by [`Frame::render`](crate::frame::Frame::render)).
     pub timing: Option<TileTiming>,
 }
@@ -86,36 +189,61 @@ impl RenderJob {
 
 /// Renders every pixel of `tile`, drawing each sample's random numbers from `streams`.
 pub fn render_tile<S: RandomStreams>(job: &RenderJob, streams: &S, tile: Tile) -> TileOutput {
-    let RenderSettings { width, spp, max_depth, .. } = job.settings;
+    let width = job.settings.width;
     let mut pixels = Vec::with_capacity(tile.area());
-    let mut rays = 0;
+    let (mut rays, mut samples) = (0, 0);
     for j in tile.y..tile.y + tile.height {
         for i in tile.x..tile.x + tile.width {
             let pixel = j as u64 * width as u64 + i as u64;
-            let mut sum = Vec3::ZERO;
-            for sample in 0..spp {
-                let mut rng = streams.stream(pixel, sample as u64);
-                let ray = job.camera.ray(i, j, &mut rng);
-                sum += trace(&job.scene, ray, max_depth, &mut rng, &mut rays);
-            }
-            pixels.push(sum / spp as Real);
+            let (value, taken) = render_pixel(job, streams, (i, j), pixel, &mut rays);
+            pixels.push(value);
+            samples += u64::from(taken);
         }
     }
-    TileOutput { tile, pixels, rays, timing: None }
+    TileOutput { tile, pixels, rays, samples, timing: None }
+}
+
+/// The mean of pixel `(i, j)`'s samples and their number: `spp` of them, or as many as
+/// adaptive sampling asks for.
+fn render_pixel<S: RandomStreams>(
+    job: &RenderJob,
+    streams: &S,
+    (i, j): (u32, u32),
+    pixel: u64,
+    rays: &mut u64,
+) -> (Vec3, u32) {
+    let settings = &job.settings;
+    let mut sum = Vec3::ZERO;
+    let mut stats = LuminanceStats::default();
+    let mut taken = 0;
+    while taken < settings.spp {
+        let mut rng = streams.stream(pixel, taken as u64);
+        let ray = job.camera.ray(i, j, &mut rng);
+        let value = trace(&job.scene, ray, settings, &mut rng, rays);
+        sum += value;
+        taken += 1;
+        if let Some(adaptive) = &settings.adaptive {
+            stats.push(luminance(value));
+            if taken % adaptive.min_spp == 0 && adaptive.done(&stats) {
+                break;
+            }
+        }
+    }
+    (sum / taken as Real, taken)
 }
 
 /// The radiance arriving along `ray`: the book's `ray_color`, as a loop. A path casts at
-/// most `max_depth` rays; one still bouncing after that contributes black. Adds the number
-/// of rays cast to `rays`.
+/// most `settings.max_depth` rays; one still bouncing after that contributes black. Adds
+/// the number of rays cast to `rays`.
 pub fn trace<R: rand::Rng + ?Sized>(
     scene: &Scene,
     mut ray: Ray,
-    max_depth: u32,
+    settings: &RenderSettings,
     rng: &mut R,
     rays: &mut u64,
 ) -> Vec3 {
     let mut throughput = Vec3::ONE;
-    for _ in 0..max_depth {
+    for cast in 1..=settings.max_depth {
         *rays += 1;
         let Some(hit) = scene.hit(&ray, Real::INFINITY) else {
             return throughput * scene.background.radiance(ray.dir);
@@ -124,6 +252,16 @@ pub fn trace<R: rand::Rng + ?Sized>(
             return Vec3::ZERO;
         };
         throughput *= scatter.attenuation;
+        if settings.stop_black_paths && throughput == Vec3::ZERO {
+            return Vec3::ZERO;
+        }
+        if settings.roulette && cast >= ROULETTE_AFTER {
+            let survive = throughput.max_element().min(0.95);
+            if uniform(rng) >= survive {
+                return Vec3::ZERO;
+            }
+            throughput /= survive;
+        }
         ray = hit.spawn(scatter.direction);
     }
     Vec3::ZERO

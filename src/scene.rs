@@ -10,7 +10,7 @@ use crate::camera::CameraSettings;
 use crate::material::Material;
 use crate::ray::Ray;
 use crate::real::Real;
-use crate::sphere::{Hit, Sphere};
+use crate::sphere::{Hit, Intersection, Sphere};
 
 /// Geometry, materials, background and camera of one scene.
 #[derive(Clone, Debug)]
@@ -19,6 +19,8 @@ pub struct Scene {
     materials: Vec<Material>,
     /// Built only for scenes of at least [`BVH_MIN_SPHERES`] spheres.
     bvh: Option<Bvh>,
+    /// How rays meet spheres: robust unless a comparison asks for the book's method.
+    intersection: Intersection,
     /// Light for rays that escape.
     pub background: Background,
     /// Camera parameters (the image size is chosen at render time).
@@ -42,7 +44,20 @@ impl Scene {
             "material index out of range"
         );
         let bvh = (spheres.len() >= BVH_MIN_SPHERES).then(|| Bvh::build(&mut spheres));
-        Scene { spheres, materials, bvh, background, camera }
+        Scene { spheres, materials, bvh, intersection: Intersection::Robust, background, camera }
+    }
+
+    /// The same scene traced by testing every sphere (for the ablation table; the image is
+    /// identical, only slower for large scenes).
+    pub fn without_bvh(mut self) -> Scene {
+        self.bvh = None;
+        self
+    }
+
+    /// The same scene traced with another intersection method (for comparisons).
+    pub fn with_intersection(mut self, intersection: Intersection) -> Scene {
+        self.intersection = intersection;
+        self
     }
 
     /// The spheres, in the order the hierarchy (if any) stored them.
@@ -61,22 +76,39 @@ impl Scene {
     }
 
     /// The closest hit along `ray` closer than `t_max`.
+    ///
+    /// One branch per ray picks the method; each arm is its own monomorphised traversal, so
+    /// the robust default pays nothing for the textbook alternative.
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real) -> Option<Hit> {
-        let (index, t) = match &self.bvh {
-            Some(bvh) => bvh.hit(&self.spheres, ray, t_max)?,
-            None => self.hit_all(ray, t_max)?,
-        };
-        Some(self.spheres[index].hit_at(ray, t))
+        match self.intersection {
+            Intersection::Robust => {
+                let (index, t) = self.closest(ray, t_max, Sphere::intersect)?;
+                Some(self.spheres[index].hit_at(ray, t))
+            }
+            Intersection::Textbook => {
+                let (index, t) = self.closest(ray, t_max, Sphere::intersect_textbook)?;
+                Some(self.spheres[index].hit_at_textbook(ray, t))
+            }
+        }
     }
 
-    /// Tests every sphere: the fastest way for a handful of them.
+    /// The closest sphere `test` finds: through the hierarchy, or for a handful of spheres
+    /// (the fastest way then) by testing every one.
     #[inline]
-    fn hit_all(&self, ray: &Ray, t_max: Real) -> Option<(usize, Real)> {
+    fn closest(
+        &self,
+        ray: &Ray,
+        t_max: Real,
+        test: impl Fn(&Sphere, &Ray, Real) -> Option<Real>,
+    ) -> Option<(usize, Real)> {
+        if let Some(bvh) = &self.bvh {
+            return bvh.hit(&self.spheres, ray, t_max, test);
+        }
         let mut closest = t_max;
         let mut found = None;
         for (i, sphere) in self.spheres.iter().enumerate() {
-            if let Some(t) = sphere.intersect(ray, closest) {
+            if let Some(t) = test(sphere, ray, closest) {
                 closest = t;
                 found = Some(i);
             }

@@ -147,6 +147,8 @@ pub struct Rendered {
     pub image: Image,
     /// Every ray cast, camera rays and bounces.
     pub rays: u64,
+    /// Camera samples taken, all pixels together.
+    pub samples: u64,
     /// Each tile with its timing, in the order the scheduler returned them.
     pub timeline: Vec<(Tile, TileTiming)>,
 }
@@ -189,6 +191,7 @@ pub fn render(frame: &Arc<Frame>, scheduler: &dyn Scheduler) -> Rendered {
     Rendered {
         image,
         rays: tiles.iter().map(|t| t.rays).sum(),
+        samples: tiles.iter().map(|t| t.samples).sum(),
         timeline: tiles.iter().filter_map(|t| Some((t.tile, t.timing?))).collect(),
     }
 }

@@ -15,6 +15,24 @@
 use crate::ray::Ray;
 use crate::real::{Real, Vec3};
 
+/// How rays meet spheres. Only [`Intersection::Robust`] is used for images; the book's
+/// method is kept so that `results/stability.md` and the ablation table can show what the
+/// robust one buys.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Intersection {
+    /// The stable quadratic ([`Sphere::intersect`]), hit points re-projected onto the
+    /// surface, new rays spawned off it by [`Sphere::spawn_offset`].
+    #[default]
+    Robust,
+    /// The book's: the textbook quadratic ([`Sphere::intersect_textbook`]), hits nearer than
+    /// [`TEXTBOOK_T_MIN`] ignored, new rays starting exactly at the computed hit point.
+    Textbook,
+}
+
+/// The book's fixed minimum hit distance, which hides most self-intersections at the scale
+/// of its scenes (and only there).
+pub const TEXTBOOK_T_MIN: Real = 0.001;
+
 /// A sphere. A negative radius makes a hollow shell: same surface, normals pointing inwards
 /// (the book's trick for a glass bubble).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -75,6 +93,33 @@ impl Sphere {
         } else {
             None
         }
+    }
+
+    /// The book's test, for comparison: `h = d·(c − o)`, `Δ = h² − (|c − o|² − r²)`, roots
+    /// `h ∓ √Δ`, accepted in `(TEXTBOOK_T_MIN, t_max)`. Both `h²` and `|c − o|²` are huge for
+    /// a big or far sphere, so their difference loses most of its digits in f32.
+    #[inline]
+    pub fn intersect_textbook(&self, ray: &Ray, t_max: Real) -> Option<Real> {
+        let oc = self.center - ray.origin;
+        let h = ray.dir.dot(oc);
+        let c = oc.length_squared() - self.radius * self.radius;
+        let discriminant = h * h - c;
+        if discriminant < 0.0 {
+            return None;
+        }
+        let root = discriminant.sqrt();
+        [h - root, h + root].into_iter().find(|&t| t > TEXTBOOK_T_MIN && t < t_max)
+    }
+
+    /// The book's hit record for [`Sphere::intersect_textbook`]: the point is where the ray
+    /// says, the normal `(p − c) / r`, and new rays start right there (no offset).
+    #[inline]
+    pub fn hit_at_textbook(&self, ray: &Ray, t: Real) -> Hit {
+        let point = ray.at(t);
+        let outward = (point - self.center) / self.radius;
+        let front_face = ray.dir.dot(outward) < 0.0;
+        let normal = if front_face { outward } else { -outward };
+        Hit { t, point, normal, front_face, material: self.material, offset: 0.0 }
     }
 
     /// The full hit record for an intersection at distance `t` found by [`Sphere::intersect`].

@@ -30,7 +30,7 @@ fn check_against_brute_force(mut spheres: Vec<Sphere>, rng: &mut SmallRng, scale
     for _ in 0..20_000 {
         let ray = Ray::new(random_vec(rng, scale), random_vec(rng, 1.0));
         let expected = brute_force(&spheres, &ray);
-        let got = bvh.hit(&spheres, &ray, Real::INFINITY);
+        let got = bvh.hit(&spheres, &ray, Real::INFINITY, Sphere::intersect);
         match (expected, got) {
             (None, None) => {}
             (Some((i, t)), Some((j, u))) => {
@@ -99,12 +99,15 @@ fn pathological_spacing_builds_a_bounded_tree() {
         // Straight down onto each sphere's top, from one radius above it.
         let (c, r) = (sphere.center, sphere.radius);
         let ray = Ray::new(Vec3::new(c.x, 2.0 * r, 0.0), Vec3::new(0.0, -1.0, 0.0));
-        let hit = bvh.hit(&copy, &ray, Real::INFINITY).unwrap_or_else(|| {
+        let hit = bvh.hit(&copy, &ray, Real::INFINITY, Sphere::intersect).unwrap_or_else(|| {
             panic!("sphere at {c:?} r {r} missed; brute force: {:?}", brute_force(&copy, &ray))
         });
         assert_eq!(Some(hit.1), brute_force(&copy, &ray).map(|h| h.1));
     }
     // A ray along the whole row must visit every level without overflowing.
     let along = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::X);
-    assert_eq!(bvh.hit(&copy, &along, Real::INFINITY).map(|h| h.1), brute_force(&copy, &along).map(|h| h.1));
+    assert_eq!(
+        bvh.hit(&copy, &along, Real::INFINITY, Sphere::intersect).map(|h| h.1),
+        brute_force(&copy, &along).map(|h| h.1)
+    );
 }

@@ -122,6 +122,12 @@ fn bad_flags_exit_2_with_one_line() {
     r(&["--scene", "nosuch"], "unknown scene 'nosuch'");
     r(&["--scene", "final", "--scene-file", "a.toml"], "--scene-file");
     r(&["--frobnicate"], "--frobnicate");
+    r(&["--target-error", "0"], "--target-error");
+    r(&["--target-error", "-1"], "--target-error");
+    r(&["--target-error", "much"], "--target-error");
+    r(&["--target-error", "0.1", "--spp", "8"], "--spp");
+    r(&["--min-spp", "4"], "--target-error");
+    r(&["--target-error", "0.1", "--min-spp", "64", "--max-spp", "8"], "--min-spp 64 is above --max-spp 8");
     assert_rejected(&dir, &["scene", "nosuch"], "unknown scene");
     assert_rejected(&dir, &["paint"], "paint");
 }

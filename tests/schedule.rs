@@ -92,7 +92,8 @@ fn parallel_modes_use_the_threads_they_are_given() {
 #[test]
 fn shared_rng_renders_a_plausible_image_on_any_mode() {
     for schedule in [Schedule::Serial, Schedule::StaticBlocks, Schedule::Stealing] {
-        let settings = RenderSettings { width: 40, height: 27, spp: 4, max_depth: 10, seed: 3 };
+        let settings =
+            RenderSettings { width: 40, height: 27, spp: 4, max_depth: 10, seed: 3, ..Default::default() };
         let scene = raypool::builtin::builtin_scene("paper1", 0).unwrap().to_scene();
         let frame = Arc::new(Frame::new(
             RenderJob::new(scene, settings),
@@ -112,7 +113,8 @@ fn shared_rng_renders_a_plausible_image_on_any_mode() {
 #[test]
 fn static_blocks_differ_by_at_most_one_row() {
     // 5 rows on 4 threads: blocks of 1, 1, 1 and 2 rows, not ceil(5/4) = 2 rows for 3 threads.
-    let settings = RenderSettings { width: 8, height: 5, spp: 1, max_depth: 4, seed: 1 };
+    let settings =
+        RenderSettings { width: 8, height: 5, spp: 1, max_depth: 4, seed: 1, ..Default::default() };
     let scene = raypool::builtin::builtin_scene("paper1", 0).unwrap().to_scene();
     let rng = RngSource::PerSample(raypool::sampler::PerSample { seed: 1 });
     let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 4, 4, Arc::new(|_| {})));

@@ -30,7 +30,8 @@ fn camera(lookfrom: [f64; 3], lookat: [f64; 3], vfov: f64) -> CameraSettings {
 
 fn render_file(scene: SceneFile, size: u32, spp: u32, depth: u32) -> Image {
     scene.validate().expect("a valid test scene");
-    let settings = RenderSettings { width: size, height: size, spp, max_depth: depth, seed: 3 };
+    let settings =
+        RenderSettings { width: size, height: size, spp, max_depth: depth, seed: 3, ..Default::default() };
     let rng = RngSource::PerSample(PerSample { seed: 3 });
     let frame = Arc::new(Frame::new(RenderJob::new(scene.to_scene(), settings), rng, 2, 8, Arc::new(|_| {})));
     render(&frame, &Schedule::Stealing).image
