@@ -19,6 +19,7 @@
 //! | [`frame`] | a render in progress: what schedulers receive |
 //! | [`schedule`] | who renders which tile: the `Scheduler` trait and six modes |
 //! | [`conformance`] | the check a student's scheduler must pass |
+//! | [`convergence`] | error against a reference, and how fast it falls with samples |
 //! | [`image`], [`output`] | the frame buffer and PNG/PPM/PFM files |
 //! | [`plot`] | speedup and timeline charts |
 //! | [`machine`] | names the machine, commit and date of a measurement |
@@ -37,6 +38,7 @@ pub mod camera;
 pub mod cli;
 pub mod compare;
 pub mod conformance;
+pub mod convergence;
 pub mod error;
 pub mod frame;
 pub mod image;

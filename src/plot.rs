@@ -1,4 +1,5 @@
-//! PNG plots for `results/`: speedup curves and per-thread timelines (Gantt charts).
+//! PNG plots for `results/`: speedup curves, per-thread timelines (Gantt charts) and
+//! log–log error curves.
 //!
 //! Drawn with plotters into an in-memory RGB buffer and encoded with the `image` crate, with
 //! a font compiled into the binary (Ubuntu Light, from `epaint_default_fonts`), so plots need
@@ -97,6 +98,70 @@ pub fn timeline_plot(path: &Path, title: &str, footer: &str, lanes: &[Vec<(f64, 
                 Rectangle::new([(s, y - 0.4), (e, y + 0.4)], fill)
             }))?;
         }
+        Ok(())
+    })
+}
+
+/// One line of a log–log plot.
+pub struct LogSeries {
+    /// Legend text.
+    pub label: String,
+    /// Points `(x, y)`, both positive.
+    pub points: Vec<(f64, f64)>,
+    /// Drawn with triangles instead of circles (e.g. adaptive sampling against uniform).
+    pub triangles: bool,
+}
+
+/// Log–log lines, e.g. error against run time, with a dotted reference line of slope
+/// `reference_slope` through the first point of the first series.
+pub fn log_log_plot(
+    path: &Path,
+    title: &str,
+    (x_desc, y_desc): (&str, &str),
+    footer: &str,
+    series: &[LogSeries],
+    reference_slope: f64,
+) -> Result<(), Error> {
+    let all = || series.iter().flat_map(|s| s.points.iter().copied()).filter(|p| p.0 > 0.0 && p.1 > 0.0);
+    let (x_lo, x_hi) = all().fold((f64::INFINITY, 0.0f64), |(lo, hi), p| (lo.min(p.0), hi.max(p.0)));
+    let (y_lo, y_hi) = all().fold((f64::INFINITY, 0.0f64), |(lo, hi), p| (lo.min(p.1), hi.max(p.1)));
+    if !(x_lo < x_hi && y_lo < y_hi) {
+        return Err(Error::new(format!("plot {}: nothing to draw", path.display())));
+    }
+    draw(path, footer, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", 22))
+            .margin(16)
+            .x_label_area_size(44)
+            .y_label_area_size(70)
+            .build_cartesian_2d((x_lo / 1.2..x_hi * 1.2).log_scale(), (y_lo / 1.2..y_hi * 1.2).log_scale())?;
+        chart.configure_mesh().x_desc(x_desc).y_desc(y_desc).label_style(("sans-serif", 16)).draw()?;
+        if let Some(&(x0, y0)) = series.first().and_then(|s| s.points.first()) {
+            let line = [(x0, y0), (x_hi, y0 * (x_hi / x0).powf(reference_slope))];
+            chart
+                .draw_series(LineSeries::new(line, BLACK.stroke_width(1)))?
+                .label(format!("slope {reference_slope}"))
+                .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK));
+        }
+        for (k, s) in series.iter().enumerate() {
+            let colour = Palette99::pick(k).to_rgba();
+            chart
+                .draw_series(LineSeries::new(s.points.clone(), colour.stroke_width(2)))?
+                .label(s.label.as_str())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2)));
+            if s.triangles {
+                chart.draw_series(s.points.iter().map(|&p| TriangleMarker::new(p, 5, colour.filled())))?;
+            } else {
+                chart.draw_series(s.points.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+            }
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerLeft)
+            .label_font(("sans-serif", 13))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()?;
         Ok(())
     })
 }

@@ -1,0 +1,161 @@
+//! `cargo bench --bench ablation`: what each optimisation buys, switched off one at a time.
+//!
+//! One thread, the book's `final` scene at 600 × 400, 64 spp, depth 50. Each configuration
+//! is rendered in rounds (every configuration once per round, so a slow spell of the machine
+//! hits all of them alike); the table gives the median wall time and Mrays/s and the largest
+//! pixel difference to the default configuration's image (0 where the change is exact).
+//! Writes `results/ablation.md`. Pass `--quick` for 300 × 200 at 16 spp.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use raypool::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::frame::{Frame, RngSource};
+use raypool::image::Image;
+use raypool::machine::Machine;
+use raypool::render::{RenderJob, RenderSettings};
+use raypool::sampler::{PerSample, SharedRng};
+use raypool::scene::Scene;
+use raypool::schedule::{Schedule, render};
+use raypool::sphere::Intersection;
+
+/// One row of the table: a change to the default renderer.
+struct Variant {
+    name: &'static str,
+    /// What the change is, exactly or statistically.
+    kind: &'static str,
+    scene: fn(Scene) -> Scene,
+    settings: fn(RenderSettings) -> RenderSettings,
+    shared_rng: bool,
+    /// Rounds to run (the flat loop is 8× slower: once is enough to see it).
+    rounds: usize,
+}
+
+const VARIANTS: [Variant; 6] = [
+    Variant {
+        name: "default (all on)",
+        kind: "reference",
+        scene: |s| s,
+        settings: |s| s,
+        shared_rng: false,
+        rounds: 3,
+    },
+    Variant {
+        name: "no BVH: every sphere tested",
+        kind: "exact",
+        scene: Scene::without_bvh,
+        settings: |s| s,
+        shared_rng: false,
+        rounds: 1,
+    },
+    Variant {
+        name: "textbook sphere test, t_min 0.001",
+        kind: "not exact: other rounding",
+        scene: |s| s.with_intersection(Intersection::Textbook),
+        settings: |s| s,
+        shared_rng: false,
+        rounds: 3,
+    },
+    Variant {
+        name: "no black-path stop",
+        kind: "exact",
+        scene: |s| s,
+        settings: |s| RenderSettings { stop_black_paths: false, ..s },
+        shared_rng: false,
+        rounds: 3,
+    },
+    Variant {
+        name: "Russian roulette on (off by default)",
+        kind: "unbiased: other noise",
+        scene: |s| s,
+        settings: |s| RenderSettings { roulette: true, ..s },
+        shared_rng: false,
+        rounds: 3,
+    },
+    Variant {
+        name: "one locked RNG instead of per-sample streams",
+        kind: "other noise",
+        scene: |s| s,
+        settings: |s| s,
+        shared_rng: true,
+        rounds: 3,
+    },
+];
+
+struct Measured {
+    seconds: Vec<f64>,
+    rays: u64,
+    image: Image,
+}
+
+fn run(variant: &Variant, base: RenderSettings) -> Measured {
+    let scene = (variant.scene)(builtin_scene("final", DEFAULT_SCENE_SEED).expect("final exists").to_scene());
+    let settings = (variant.settings)(base);
+    let rng = if variant.shared_rng {
+        RngSource::Shared(Arc::new(SharedRng::new(settings.seed)))
+    } else {
+        RngSource::PerSample(PerSample { seed: settings.seed })
+    };
+    let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 1, 16, Arc::new(|_| {})));
+    let start = Instant::now();
+    let out = render(&frame, &Schedule::Serial);
+    Measured { seconds: vec![start.elapsed().as_secs_f64()], rays: out.rays, image: out.image }
+}
+
+fn median(xs: &[f64]) -> f64 {
+    let mut v = xs.to_vec();
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+fn largest_difference(a: &Image, b: &Image) -> f64 {
+    a.pixels.iter().zip(&b.pixels).map(|(p, q)| f64::from((*p - *q).abs().max_element())).fold(0.0, f64::max)
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let (width, height, spp) = if quick { (300, 200, 16) } else { (600, 400, 64) };
+    let base = RenderSettings { width, height, spp, max_depth: 50, seed: 1, ..Default::default() };
+    let mut measured: Vec<Option<Measured>> = VARIANTS.iter().map(|_| None).collect();
+    for round in 0..3 {
+        for (variant, slot) in VARIANTS.iter().zip(measured.iter_mut()) {
+            if round >= variant.rounds {
+                continue;
+            }
+            let m = run(variant, base);
+            eprintln!("round {round}: {}: {:.3} s", variant.name, m.seconds[0]);
+            match slot {
+                Some(kept) => kept.seconds.extend(m.seconds),
+                None => *slot = Some(m),
+            }
+        }
+    }
+    let measured: Vec<Measured> = measured.into_iter().map(|m| m.expect("every variant ran")).collect();
+    let reference = &measured[0];
+    let mut md = format!(
+        "# Ablation: each optimisation switched off\n\n\
+         `final`, {width} × {height}, {spp} spp, depth 50, one thread (serial), seed 1.\n\
+         Machine: {}.\nCommand: `cargo bench --bench ablation{}`. Median of the runs listed.\n\n\
+         | change | kind | runs (s) | median (s) | rays | Mrays/s | × default time | largest pixel difference |\n\
+         |---|---|---|---:|---:|---:|---:|---:|\n",
+        Machine::current().describe(),
+        if quick { " -- --quick" } else { "" }
+    );
+    for (variant, m) in VARIANTS.iter().zip(&measured) {
+        let runs: Vec<String> = m.seconds.iter().map(|s| format!("{s:.2}")).collect();
+        let t = median(&m.seconds);
+        md += &format!(
+            "| {} | {} | {} | {t:.2} | {} | {:.2} | {:.2} | {:.3e} |\n",
+            variant.name,
+            variant.kind,
+            runs.join(", "),
+            m.rays,
+            m.rays as f64 / t / 1e6,
+            t / median(&reference.seconds),
+            largest_difference(&m.image, &reference.image),
+        );
+    }
+    let path = if quick { "target/ablation-quick.md" } else { "results/ablation.md" };
+    std::fs::write(path, &md).expect("the output directory is writable");
+    println!("{md}\nwrote {path}");
+}

@@ -1,0 +1,280 @@
+//! `cargo bench --bench error`: run time against error, uniform and adaptive sampling, in
+//! f32 and (with `--features f64`) f64.
+//!
+//! For each scene: a reference of 2 × 2048 spp (two seeds; cached under
+//! `target/error-reference/`, outside git, and shared by the f32 and f64 runs), then renders
+//! at 1, 2, 4, … 256 spp and with adaptive sampling at several target errors, each timed and
+//! measured against the reference (its own noise taken out, see `raypool::convergence`).
+//! Writes `results/error-f32.csv` (or `-f64`), then `results/error.md` and `results/error.png`
+//! from whichever of the two CSV files exist. Run it once without and once with
+//! `--features f64` to compare the precisions. `--quick`: small images, for a smoke test.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use raypool::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::cli::default_height;
+use raypool::convergence::{Reference, log_log_fit, timed_render};
+use raypool::image::Image;
+use raypool::machine::Machine;
+use raypool::output::{Format, encode, read_pfm};
+use raypool::plot::{LogSeries, log_log_plot};
+use raypool::real::{Real, vec3};
+use raypool::render::{Adaptive, RenderSettings};
+
+const SCENES: [&str; 5] = ["final", "paper1", "paper2", "paper3", "three-spheres"];
+const TARGETS: [Real; 4] = [0.2, 0.1, 0.05, 0.025];
+const PRECISION: &str = if cfg!(feature = "f64") { "f64" } else { "f32" };
+
+struct Config {
+    width: u32,
+    reference_spp_each: u32,
+    max_spp: u32,
+    min_spp: u32,
+}
+
+/// One measured render: a CSV row.
+struct Row {
+    scene: String,
+    precision: String,
+    /// "uniform" or "adaptive".
+    method: String,
+    /// spp for uniform; the target error for adaptive.
+    setting: f64,
+    mean_spp: f64,
+    seconds: f64,
+    rmse: f64,
+}
+
+const CSV_HEADER: &str = "scene,precision,method,setting,mean_spp,seconds,rmse";
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let config = if quick {
+        Config { width: 48, reference_spp_each: 256, max_spp: 64, min_spp: 8 }
+    } else {
+        Config { width: 160, reference_spp_each: 2048, max_spp: 256, min_spp: 16 }
+    };
+    let out_dir = PathBuf::from(if quick { "target/error-quick" } else { "results" });
+    std::fs::create_dir_all(&out_dir).expect("the output directory can be made");
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let mut rows = Vec::new();
+    let mut references = String::new();
+    for name in SCENES {
+        let file = builtin_scene(name, DEFAULT_SCENE_SEED).expect("built-in scene");
+        let height = default_height(config.width, file.camera.aspect).expect("a sane aspect");
+        let scene = file.to_scene();
+        let base =
+            RenderSettings { width: config.width, height, max_depth: 50, seed: 1, ..Default::default() };
+        let reference = cached_reference(name, &scene, base, config.reference_spp_each, threads);
+        let _ = writeln!(
+            references,
+            "| {name} | {} × {height} | {} | {:.2e} |",
+            config.width, reference.spp, reference.noise
+        );
+        let mut spp = 1;
+        while spp <= config.max_spp {
+            let (out, seconds) = timed_render(scene.clone(), RenderSettings { spp, ..base }, threads);
+            rows.push(row(name, "uniform", spp as f64, &out, seconds, &reference, base));
+            eprintln!("{name} {PRECISION} {spp} spp: {seconds:.3} s, rmse {:.3e}", rows.last().unwrap().rmse);
+            spp *= 2;
+        }
+        for target_error in TARGETS {
+            let adaptive = Some(Adaptive { target_error, min_spp: config.min_spp });
+            let settings = RenderSettings { spp: 4 * config.max_spp, adaptive, ..base };
+            let (out, seconds) = timed_render(scene.clone(), settings, threads);
+            rows.push(row(name, "adaptive", target_error as f64, &out, seconds, &reference, base));
+            let r = rows.last().unwrap();
+            eprintln!(
+                "{name} {PRECISION} E {target_error}: {:.1} spp, {seconds:.3} s, rmse {:.3e}",
+                r.mean_spp, r.rmse
+            );
+        }
+    }
+    let csv: String = rows
+        .iter()
+        .map(|r| {
+            format!(
+                "{},{},{},{:.4},{:.3},{:.5},{:.6e}\n",
+                r.scene, r.precision, r.method, r.setting, r.mean_spp, r.seconds, r.rmse
+            )
+        })
+        .collect();
+    let csv_path = out_dir.join(format!("error-{PRECISION}.csv"));
+    std::fs::write(&csv_path, format!("{CSV_HEADER}\n{csv}")).expect("the CSV is writable");
+
+    // Both precisions' rows, where the other run's CSV exists.
+    let mut all = Vec::new();
+    for precision in ["f32", "f64"] {
+        all.extend(read_csv(&out_dir.join(format!("error-{precision}.csv"))));
+    }
+    let command = if quick { "cargo bench --bench error -- --quick" } else { "cargo bench --bench error" };
+    let footer = format!("{command} [--features f64]; {}", Machine::current().describe());
+    let md = report(&all, &config, &references, &footer, threads);
+    std::fs::write(out_dir.join("error.md"), &md).expect("error.md is writable");
+    plot(&all, &out_dir.join("error.png"), &footer);
+    println!("{md}\nwrote {}/error.md, error.png, {}", out_dir.display(), csv_path.display());
+}
+
+fn row(
+    scene: &str,
+    method: &str,
+    setting: f64,
+    out: &raypool::schedule::Rendered,
+    seconds: f64,
+    reference: &Reference,
+    base: RenderSettings,
+) -> Row {
+    Row {
+        scene: scene.into(),
+        precision: PRECISION.into(),
+        method: method.into(),
+        setting,
+        mean_spp: out.samples as f64 / (base.width as f64 * base.height as f64),
+        seconds,
+        rmse: reference.error_of(&out.image),
+    }
+}
+
+/// The scene's reference, from the cache when an earlier run (of either precision) made it.
+fn cached_reference(
+    name: &str,
+    scene: &raypool::scene::Scene,
+    base: RenderSettings,
+    spp_each: u32,
+    threads: usize,
+) -> Reference {
+    let dir = Path::new("target/error-reference");
+    let stem = format!("{name}-{}x{}-{spp_each}", base.width, base.height);
+    let paths = [dir.join(format!("{stem}-a.pfm")), dir.join(format!("{stem}-b.pfm"))];
+    let load = |p: &Path| -> Option<Image> {
+        let (width, height, pixels) = read_pfm(&std::fs::read(p).ok()?).ok()?;
+        let pixels = pixels.iter().map(|c| vec3(c.map(f64::from))).collect();
+        Some(Image { width, height, pixels })
+    };
+    if let (Some(a), Some(b)) = (load(&paths[0]), load(&paths[1])) {
+        return Reference::from_halves(&a, &b, spp_each);
+    }
+    eprintln!("{name}: rendering the reference, 2 × {spp_each} spp");
+    let reference = Reference::render(scene, base, spp_each, threads);
+    let halves = reference.halves();
+    std::fs::create_dir_all(dir).expect("target/ is writable");
+    for (path, half) in paths.iter().zip(halves) {
+        let mut bytes = Vec::new();
+        encode(half, Format::Pfm, &mut bytes).expect("PFM encodes");
+        std::fs::write(path, bytes).expect("the cache is writable");
+    }
+    reference
+}
+
+fn read_csv(path: &Path) -> Vec<Row> {
+    let Ok(text) = std::fs::read_to_string(path) else { return Vec::new() };
+    text.lines()
+        .skip(1)
+        .filter_map(|line| {
+            let f: Vec<&str> = line.split(',').collect();
+            let num = |k: usize| f.get(k)?.parse::<f64>().ok();
+            Some(Row {
+                scene: f.first()?.to_string(),
+                precision: f.get(1)?.to_string(),
+                method: f.get(2)?.to_string(),
+                setting: num(3)?,
+                mean_spp: num(4)?,
+                seconds: num(5)?,
+                rmse: num(6)?,
+            })
+        })
+        .collect()
+}
+
+fn select<'a>(rows: &'a [Row], scene: &str, precision: &str, method: &str) -> Vec<&'a Row> {
+    rows.iter().filter(|r| r.scene == scene && r.precision == precision && r.method == method).collect()
+}
+
+/// The uniform-sampling time that reaches `rmse`, from the power law fitted to the uniform
+/// runs of 4 spp and more (below that, fixed costs per render dominate the time).
+fn uniform_time_for(uniform: &[&Row], rmse: f64) -> f64 {
+    let points: Vec<(f64, f64)> =
+        uniform.iter().filter(|r| r.setting >= 4.0).map(|r| (r.rmse, r.seconds)).collect();
+    let (k, log_c) = log_log_fit(&points);
+    (log_c + k * rmse.ln()).exp()
+}
+
+fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads: usize) -> String {
+    let mut md = format!(
+        "# Run time against error\n\n`{footer}`\n\nEvery render: {} pixels wide (height from the scene's aspect), depth 50, \
+         seed 1, work-stealing scheduler on {threads} threads; one run per point. Error = RMSE over linear RGB against a \
+         reference of two independent halves, with the reference's own noise (RMSE(a, b)/2) taken out \
+         (`src/convergence.rs`).\n\n| scene | size | reference spp | reference noise (RMSE) |\n|---|---|---:|---:|\n{references}\n",
+        config.width
+    );
+    md += "## Slope of error against spp (uniform sampling, 1…256 spp)\n\nMonte Carlo error must fall as \
+           spp^−1/2: the fitted log–log slope must be −0.5 ± 0.05.\n\n| scene | precision | slope | within ±0.05 |\n|---|---|---:|---|\n";
+    for scene in SCENES {
+        for precision in ["f32", "f64"] {
+            let uniform = select(rows, scene, precision, "uniform");
+            if uniform.len() < 2 {
+                continue;
+            }
+            let points: Vec<(f64, f64)> = uniform.iter().map(|r| (r.setting, r.rmse)).collect();
+            let (slope, _) = log_log_fit(&points);
+            let ok = if (slope + 0.5).abs() <= 0.05 { "yes" } else { "**no**" };
+            let _ = writeln!(md, "| {scene} | {precision} | {slope:.3} | {ok} |");
+        }
+    }
+    md += "\n## Uniform sampling: time and error\n\n| scene | spp | f32 time (s) | f32 RMSE | f64 time (s) | f64 RMSE |\n|---|---:|---:|---:|---:|---:|\n";
+    for scene in SCENES {
+        let f32_rows = select(rows, scene, "f32", "uniform");
+        let f64_rows = select(rows, scene, "f64", "uniform");
+        for (k, r) in f32_rows.iter().enumerate() {
+            let other = f64_rows
+                .get(k)
+                .map_or("– | –".to_string(), |o| format!("{:.3} | {:.3e}", o.seconds, o.rmse));
+            let _ = writeln!(md, "| {scene} | {} | {:.3} | {:.3e} | {other} |", r.setting, r.seconds, r.rmse);
+        }
+    }
+    md += &format!(
+        "\n## Adaptive sampling against uniform, at equal error\n\nAdaptive: `--target-error E --min-spp {} \
+         --max-spp {}`. \"Uniform time\" is the time uniform sampling needs for the same RMSE, from the power law \
+         fitted to its runs of 4–256 spp; the gain is uniform time ÷ adaptive time.\n\n| scene | precision | E | mean spp | time (s) | RMSE | uniform time (s) | gain |\n|---|---|---:|---:|---:|---:|---:|---:|\n",
+        config.min_spp,
+        4 * config.max_spp
+    );
+    for scene in SCENES {
+        for precision in ["f32", "f64"] {
+            let uniform = select(rows, scene, precision, "uniform");
+            for r in select(rows, scene, precision, "adaptive") {
+                let t = uniform_time_for(&uniform, r.rmse);
+                let _ = writeln!(
+                    md,
+                    "| {scene} | {precision} | {:.3} | {:.1} | {:.3} | {:.3e} | {t:.3} | {:.2}× |",
+                    r.setting,
+                    r.mean_spp,
+                    r.seconds,
+                    r.rmse,
+                    t / r.seconds
+                );
+            }
+        }
+    }
+    md
+}
+
+fn plot(rows: &[Row], path: &Path, footer: &str) {
+    let mut series = Vec::new();
+    for scene in SCENES {
+        for (precision, method) in [("f32", "uniform"), ("f32", "adaptive"), ("f64", "uniform")] {
+            let points: Vec<(f64, f64)> = select(rows, scene, precision, method)
+                .iter()
+                .filter(|r| r.rmse > 0.0)
+                .map(|r| (r.seconds, r.rmse))
+                .collect();
+            if !points.is_empty() {
+                let label = format!("{scene} {method} {precision}");
+                series.push(LogSeries { label, points, triangles: method == "adaptive" });
+            }
+        }
+    }
+    log_log_plot(path, "RMSE against run time", ("seconds", "RMSE (linear)"), footer, &series, -0.5)
+        .expect("error.png is writable");
+}
