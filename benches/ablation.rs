@@ -42,7 +42,7 @@ const VARIANTS: [Variant; 6] = [
     },
     Variant {
         name: "no BVH: every sphere tested",
-        kind: "exact",
+        kind: "same hits but for rare ties",
         scene: Scene::without_bvh,
         settings: |s| s,
         shared_rng: false,

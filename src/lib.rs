@@ -20,6 +20,7 @@
 //! | [`schedule`] | who renders which tile: the `Scheduler` trait and six modes |
 //! | [`conformance`] | the check a student's scheduler must pass |
 //! | [`convergence`] | error against a reference, and how fast it falls with samples |
+//! | [`stress`] | numerical stress scenes with known answers |
 //! | [`image`], [`output`] | the frame buffer and PNG/PPM/PFM files |
 //! | [`plot`] | speedup and timeline charts |
 //! | [`machine`] | names the machine, commit and date of a measurement |
@@ -54,5 +55,6 @@ pub mod scene;
 pub mod scene_file;
 pub mod schedule;
 pub mod sphere;
+pub mod stress;
 
 pub use error::Error;
