@@ -29,7 +29,7 @@ pub struct Scene {
 
 impl Scene {
     /// A scene of these spheres (each `material` indexing `materials`). Large scenes get a
-    /// [`Bvh`], which reorders the spheres (never the image).
+    /// [`Bvh`], which reorders the spheres.
     ///
     /// # Panics
     /// If a sphere's material index is out of range.
@@ -47,8 +47,8 @@ impl Scene {
         Scene { spheres, materials, bvh, intersection: Intersection::Robust, background, camera }
     }
 
-    /// The same scene traced by testing every sphere (for the ablation table; the image is
-    /// identical, only slower for large scenes).
+    /// The same scene traced by testing every sphere (for the ablation table: the same hits
+    /// but for exact ties, only slower for large scenes).
     pub fn without_bvh(mut self) -> Scene {
         self.bvh = None;
         self
