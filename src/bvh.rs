@@ -14,9 +14,9 @@
 //!   farther than the closest hit found so far is skipped.
 //!
 //! The hierarchy changes which spheres are tested, not which is closest: the same closest
-//! hit is found with the same sphere test. The one exception is a tie, two spheres hit at
-//! exactly the same distance, which the testing order decides (26 of 41.7 M rays of the
-//! ablation run in `results/perf.md`).
+//! hit is found with the same sphere test. The exception, most likely, is a tie: two spheres
+//! hit at exactly the same distance, which the testing order decides (26 of 41.7 M rays end
+//! differently in the ablation run of `results/perf.md`; the rays were not inspected).
 
 use crate::ray::Ray;
 use crate::real::{Real, Vec3};
