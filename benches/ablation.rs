@@ -9,15 +9,15 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use raypool::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::frame::{Frame, RngSource};
-use raypool::image::Image;
-use raypool::machine::Machine;
-use raypool::render::{RenderJob, RenderSettings};
-use raypool::sampler::{PerSample, SharedRng};
-use raypool::scene::Scene;
-use raypool::schedule::{Schedule, render};
-use raypool::sphere::Intersection;
+use raypool::files::image::Image;
+use raypool::measure::machine::Machine;
+use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::schedule::frame::{Frame, RngSource};
+use raypool::schedule::modes::{Schedule, render};
+use raypool::tracer::render::{RenderJob, RenderSettings};
+use raypool::tracer::sampler::{PerSample, SharedRng};
+use raypool::tracer::scene::Scene;
+use raypool::tracer::sphere::Intersection;
 
 /// One row of the table: a change to the default renderer.
 struct Variant {

@@ -4,7 +4,7 @@
 //! For each scene: a reference of 2 × 2048 spp (two seeds; cached under
 //! `target/error-reference/`, outside git, and shared by the f32 and f64 runs), then renders
 //! at 1, 2, 4, … 256 spp and with adaptive sampling at several target errors, each timed and
-//! measured against the reference (its own noise taken out, see `raypool::convergence`).
+//! measured against the reference (its own noise taken out, see `raypool::measure::convergence`).
 //! Writes `results/error-f32.csv` (or `-f64`), then `results/error.md` and `results/error.png`
 //! from whichever of the two CSV files exist. Run it once without and once with
 //! `--features f64` to compare the precisions. `--quick`: small images, for a smoke test.
@@ -12,15 +12,15 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use raypool::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::cli::default_height;
-use raypool::convergence::{Reference, log_log_fit, timed_render};
-use raypool::image::Image;
-use raypool::machine::Machine;
-use raypool::output::{Format, encode, read_pfm};
-use raypool::plot::{LogSeries, log_log_plot};
-use raypool::real::{Real, vec3};
-use raypool::render::{Adaptive, RenderSettings};
+use raypool::files::image::Image;
+use raypool::files::output::{Format, encode, read_pfm};
+use raypool::measure::convergence::{Reference, log_log_fit, timed_render};
+use raypool::measure::machine::Machine;
+use raypool::measure::plot::{LogSeries, log_log_plot};
+use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::tracer::real::{Real, vec3};
+use raypool::tracer::render::default_height;
+use raypool::tracer::render::{Adaptive, RenderSettings};
 
 const SCENES: [&str; 5] = ["final", "paper1", "paper2", "paper3", "three-spheres"];
 const TARGETS: [Real; 4] = [0.2, 0.1, 0.05, 0.025];
@@ -120,7 +120,7 @@ fn row(
     scene: &str,
     method: &str,
     setting: f64,
-    out: &raypool::schedule::Rendered,
+    out: &raypool::schedule::modes::Rendered,
     seconds: f64,
     reference: &Reference,
     base: RenderSettings,
@@ -139,7 +139,7 @@ fn row(
 /// The scene's reference, from the cache when an earlier run (of either precision) made it.
 fn cached_reference(
     name: &str,
-    scene: &raypool::scene::Scene,
+    scene: &raypool::tracer::scene::Scene,
     base: RenderSettings,
     spp_each: u32,
     threads: usize,
@@ -205,7 +205,7 @@ fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads
         "# Run time against error\n\n`{footer}`\n\nEvery render: {} pixels wide (height from the scene's aspect), depth 50, \
          seed 1, work-stealing scheduler on {threads} threads; one run per point. Error = RMSE over linear RGB against a \
          reference of two independent halves, with the reference's own noise (RMSE(a, b)/2) taken out \
-         (`src/convergence.rs`).\n\n| scene | size | reference spp | reference noise (RMSE) |\n|---|---|---:|---:|\n{references}\n",
+         (`src/measure/convergence.rs`).\n\n| scene | size | reference spp | reference noise (RMSE) |\n|---|---|---:|---:|\n{references}\n",
         config.width
     );
     md += "## Slope of error against spp (uniform sampling, 1…256 spp)\n\nMonte Carlo error must fall as \

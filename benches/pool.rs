@@ -9,7 +9,7 @@ use criterion::Criterion;
 use pool::{Discipline, ThreadPool};
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
-use raypool::machine::Machine;
+use raypool::measure::machine::Machine;
 
 /// Empty jobs per batch in the overhead benchmark.
 const JOBS: usize = 100_000;

@@ -1,4 +1,4 @@
-//! `cargo bench --bench speedup`: the full speedup benchmark (see `raypool::bench`), with a
+//! `cargo bench --bench speedup`: the full speedup benchmark (see `raypool::measure::speedup`), with a
 //! rayon baseline that the `raypool bench` command cannot have (rayon is only a
 //! dev-dependency). Writes `results/speedup.{md,csv,png}` and `results/timeline-*.png`.
 
@@ -6,10 +6,10 @@ use std::path::Path;
 use std::sync::Arc;
 
 use rayon::prelude::*;
-use raypool::bench::{Contender, Preset, run, write_reports};
-use raypool::frame::Frame;
-use raypool::render::TileOutput;
-use raypool::schedule::Scheduler;
+use raypool::measure::speedup::{Contender, Preset, run, write_reports};
+use raypool::schedule::frame::Frame;
+use raypool::schedule::modes::Scheduler;
+use raypool::tracer::render::TileOutput;
 
 /// The same tiles as `pool` and `steal`, distributed by rayon's `par_iter` on a rayon pool
 /// of `frame.threads` threads.

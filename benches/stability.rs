@@ -1,4 +1,4 @@
-//! `cargo bench --bench stability`: the numerical stress cases of `raypool::stress`, rendered
+//! `cargo bench --bench stability`: the numerical stress cases of `raypool::measure::stress`, rendered
 //! with the book's method (textbook quadratic, fixed t_min = 0.001, rays spawned at the raw
 //! hit point) and with raypool's robust one. Writes `results/stability-f32.csv` (or `-f64`
 //! with `--features f64`) and `results/stability.md` from whichever of the two exist.
@@ -6,9 +6,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use raypool::machine::Machine;
-use raypool::sphere::Intersection;
-use raypool::stress::cases;
+use raypool::measure::machine::Machine;
+use raypool::measure::stress::cases;
+use raypool::tracer::sphere::Intersection;
 
 const PRECISION: &str = if cfg!(feature = "f64") { "f64" } else { "f32" };
 const METHODS: [(&str, Intersection); 2] =
@@ -40,7 +40,7 @@ fn main() {
         "# Numerical stability: the book's method against raypool's\n\n\
          `cargo bench --bench stability [--features f64]`; {}.\n\n\
          Every scene is lit by a uniform white sky, so every correct pixel lies between a known floor (the albedo; 1 \
-         for clear glass) and 1 (`src/stress.rs`). **dark**: pixels below the floor, i.e. energy lost to a ray \
+         for clear glass) and 1 (`src/measure/stress.rs`). **dark**: pixels below the floor, i.e. energy lost to a ray \
          re-hitting the surface it left (acne); **NaN**: pixels with a NaN or infinite channel; **worst**: the largest \
          distance of a value outside the correct range. Textbook = the book's quadratic `h² − c`, hits nearer than \
          t_min = 0.001 ignored, new rays from the raw hit point. Robust = the stable quadratic, hit points re-projected \

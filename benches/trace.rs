@@ -12,13 +12,13 @@ use std::hint::black_box;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
-use raypool::builtin::builtin_scene;
-use raypool::bvh::Bvh;
-use raypool::material::Material;
-use raypool::ray::Ray;
-use raypool::real::{Real, Vec3};
-use raypool::sampler::random_unit_vector;
-use raypool::sphere::{Hit, Sphere};
+use raypool::scenes::builtin::builtin_scene;
+use raypool::tracer::bvh::Bvh;
+use raypool::tracer::material::Material;
+use raypool::tracer::ray::Ray;
+use raypool::tracer::real::{Real, Vec3};
+use raypool::tracer::sampler::random_unit_vector;
+use raypool::tracer::sphere::{Hit, Sphere};
 
 const RAYS: usize = 4096;
 

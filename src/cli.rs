@@ -9,19 +9,16 @@ use std::time::Instant;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-use crate::bench::{Preset, write_reports};
-use crate::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::error::Error;
-use crate::frame::{Frame, RngSource};
-use crate::output::{PendingOutput, io_reason};
-use crate::real::Real;
-use crate::render::{Adaptive, RenderJob, RenderSettings};
-use crate::sampler::{PerSample, SharedRng};
-use crate::scene_file::SceneFile;
-use crate::schedule::{Schedule, render};
-
-/// Largest accepted image side, pixels.
-pub const MAX_SIDE: u32 = 16384;
+use crate::files::output::PendingOutput;
+use crate::measure::speedup::{Preset, write_reports};
+use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
+use crate::scenes::format::SceneFile;
+use crate::schedule::frame::{DEFAULT_TILE, Frame, RngSource};
+use crate::schedule::modes::{Schedule, render};
+use crate::tracer::real::Real;
+use crate::tracer::render::{Adaptive, MAX_SIDE, RenderJob, RenderSettings, default_height};
+use crate::tracer::sampler::{PerSample, SharedRng};
 
 /// raypool: the book's ray tracer on hand-written thread pools.
 #[derive(Debug, Parser)]
@@ -149,9 +146,6 @@ pub enum RngChoice {
 /// Samples per pixel of the paper table that `raypool bench --quick` writes.
 const QUICK_PAPER_SPP: u32 = 2;
 
-/// Default tile side for the tiled modes, pixels.
-pub const DEFAULT_TILE: u32 = 16;
-
 /// Runs one parsed command line.
 pub fn run(cli: Cli) -> Result<(), Error> {
     match cli.command {
@@ -164,29 +158,37 @@ pub fn run(cli: Cli) -> Result<(), Error> {
         }
         Command::Bench { paper: true, spp, out_dir, .. } => {
             let threads = default_threads();
-            let cells = crate::bench::paper_table(spp, threads, |line| eprintln!("{line}"))?;
+            let cells = crate::measure::speedup::paper_table(spp, threads, |line| eprintln!("{line}"))?;
             let command = format!("raypool bench --paper --spp {spp}");
-            crate::bench::write_paper_table(&out_dir, &cells, spp, threads, &command)?;
+            crate::measure::speedup::write_paper_table(&out_dir, &cells, spp, threads, &command)?;
             eprintln!("wrote {}/paper-table.md", out_dir.display());
             Ok(())
         }
         Command::Bench { quick, out_dir, .. } => {
             let preset = if quick { Preset::quick() } else { Preset::full() };
-            let outcome = crate::bench::run(&preset, &[], |line| eprintln!("{line}"))?;
+            let outcome = crate::measure::speedup::run(&preset, &[], |line| eprintln!("{line}"))?;
             let command = if quick { "raypool bench --quick" } else { "raypool bench" };
             write_reports(&out_dir, &preset, &outcome, command)?;
             eprintln!("wrote {}/speedup.md, speedup.csv, speedup.png, timeline-*.png", out_dir.display());
             if quick {
                 // A rough paper table too: 2 spp, scaled to the paper's 500 (labelled so).
                 let threads = default_threads();
-                let cells = crate::bench::paper_table(QUICK_PAPER_SPP, threads, |line| eprintln!("{line}"))?;
-                crate::bench::write_paper_table(&out_dir, &cells, QUICK_PAPER_SPP, threads, command)?;
+                let cells = crate::measure::speedup::paper_table(QUICK_PAPER_SPP, threads, |line| {
+                    eprintln!("{line}")
+                })?;
+                crate::measure::speedup::write_paper_table(
+                    &out_dir,
+                    &cells,
+                    QUICK_PAPER_SPP,
+                    threads,
+                    command,
+                )?;
                 eprintln!("wrote {}/paper-table.md (at {QUICK_PAPER_SPP} spp)", out_dir.display());
             }
             Ok(())
         }
         Command::Compare { image, reference, diff } => {
-            let m = crate::compare::compare_files(&image, &reference, diff.as_deref())?;
+            let m = crate::measure::compare::compare_files(&image, &reference, diff.as_deref())?;
             println!(
                 "rmse {:.6}  rel_mse {:.6}  mae {:.6}  max {:.6}  psnr {:.2} dB",
                 m.rmse, m.rel_mse, m.mae, m.max_error, m.psnr
@@ -203,12 +205,7 @@ pub fn run(cli: Cli) -> Result<(), Error> {
 /// The scene chosen by `--scene` / `--scene-file`.
 pub fn load_scene(args: &RenderArgs) -> Result<SceneFile, Error> {
     match &args.scene_file {
-        Some(path) => {
-            let text = std::fs::read_to_string(path).map_err(|e| {
-                Error::new(format!("cannot read scene file '{}': {}", path.display(), io_reason(&e)))
-            })?;
-            SceneFile::parse(&text, &path.display().to_string())
-        }
+        Some(path) => SceneFile::read(path),
         None => builtin_scene(&args.scene, args.scene_seed),
     }
 }
@@ -297,17 +294,6 @@ fn positive_fraction(text: &str) -> Result<f64, String> {
         Ok(_) => Err("must be above 0 and at most 1".to_string()),
         Err(_) => Err("not a number".to_string()),
     }
-}
-
-/// The height that gives `aspect` (width ÷ height) at `width`, at least 1 pixel.
-pub fn default_height(width: u32, aspect: f64) -> Result<u32, Error> {
-    let h = (width as f64 / aspect).round().max(1.0);
-    if h > MAX_SIDE as f64 {
-        return Err(Error::new(format!(
-            "height {h} (width ÷ camera.aspect) is above {MAX_SIDE}: pass --height"
-        )));
-    }
-    Ok(h as u32)
 }
 
 fn default_threads() -> usize {

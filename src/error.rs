@@ -20,3 +20,10 @@ impl fmt::Display for Error {
 }
 
 impl std::error::Error for Error {}
+
+/// An I/O error's message without the trailing "(os error N)".
+pub fn io_reason(e: &std::io::Error) -> String {
+    // The io::Error Display adds "(os error N)"; the kind's description reads better.
+    let text = e.to_string();
+    text.split(" (os error").next().unwrap_or(&text).to_owned()
+}

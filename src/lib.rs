@@ -1,60 +1,34 @@
 //! raypool: the ray tracer of *Ray Tracing in One Weekend*, written to study parallelism.
 //!
-//! Read it in the book's order:
+//! The folders are the layers, each using only those above it in this table (and
+//! [`error`], which every layer may use); `cargo test --test layers` checks it.
 //!
-//! | module | what it holds |
+//! | layer | what it holds |
 //! |---|---|
-//! | [`real`] | `Real` (f32, or f64 with the `f64` feature) and `Vec3` |
-//! | [`ray`] | `Ray`: origin + t·dir, unit dir |
-//! | [`sphere`] | the robust ray–sphere test and `Hit` |
-//! | [`material`] | lambertian, metal, dielectric as one `enum` |
-//! | [`camera`] | the thin-lens camera |
-//! | [`background`] | what escaping rays see |
-//! | [`bvh`] | the bounding volume hierarchy for large scenes |
-//! | [`scene`] | the render-ready scene |
-//! | [`scene_file`] | the TOML scene format |
-//! | [`builtin`] | the built-in scenes (paper figures, the book's final scene) |
-//! | [`sampler`] | one random stream per pixel sample |
-//! | [`render`] | `render_tile`, the one render loop |
-//! | [`frame`] | a render in progress: what schedulers receive |
-//! | [`schedule`] | who renders which tile: the `Scheduler` trait and six modes |
-//! | [`conformance`] | the check a student's scheduler must pass |
-//! | [`convergence`] | error against a reference, and how fast it falls with samples |
-//! | [`stress`] | numerical stress scenes with known answers |
-//! | [`image`], [`output`] | the frame buffer and PNG/PPM/PFM files |
-//! | [`plot`] | speedup and timeline charts |
-//! | [`machine`] | names the machine, commit and date of a measurement |
-//! | [`bench`] | the speedup benchmark (`raypool bench`) |
-//! | [`compare`] | error figures of an image against a reference |
+//! | [`tracer`] | the book's tracer in the book's order: [`tracer::real`], [`tracer::ray`], [`tracer::sphere`], [`tracer::material`], [`tracer::camera`], [`tracer::background`], [`tracer::bvh`], [`tracer::scene`], [`tracer::sampler`], and [`tracer::render`], the one render loop |
+//! | [`scenes`] | scenes as data: the TOML [`scenes::format`] and the [`scenes::builtin`] scenes |
+//! | [`files`] | the frame buffer ([`files::image`]) and the PNG/PPM/PFM writers ([`files::output`]) |
+//! | [`schedule`] | who renders which tile: [`schedule::frame`] (a render in progress), the [`schedule::modes`] and the [`schedule::conformance`] check |
+//! | [`measure`] | the [`measure::speedup`] benchmark, error ([`measure::compare`], [`measure::convergence`]), [`measure::stress`] cases, [`measure::plot`]s, [`measure::machine`] labels |
 //! | [`cli`] | the `raypool` command |
+//!
+//! [`scenes`] and [`files`] sit side by side: neither uses the other.
+//! The types most programs need are re-exported here: `raypool::{SceneFile, RenderJob, Frame, Scheduler, …}`.
 
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-pub mod background;
-pub mod bench;
-pub mod builtin;
-pub mod bvh;
-pub mod camera;
-pub mod cli;
-pub mod compare;
-pub mod conformance;
-pub mod convergence;
 pub mod error;
-pub mod frame;
-pub mod image;
-pub mod machine;
-pub mod material;
-pub mod output;
-pub mod plot;
-pub mod ray;
-pub mod real;
-pub mod render;
-pub mod sampler;
-pub mod scene;
-pub mod scene_file;
+pub mod tracer;
+pub mod scenes;
+pub mod files;
 pub mod schedule;
-pub mod sphere;
-pub mod stress;
+pub mod measure;
+pub mod cli;
 
 pub use error::Error;
+pub use files::image::Image;
+pub use scenes::format::SceneFile;
+pub use schedule::frame::{Frame, RngSource};
+pub use schedule::modes::{Schedule, Scheduler};
+pub use tracer::render::{RenderJob, RenderSettings, Tile, TileOutput};

@@ -2,11 +2,11 @@
 
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
-use raypool::builtin::builtin_scene;
-use raypool::bvh::Bvh;
-use raypool::ray::Ray;
-use raypool::real::{Real, Vec3};
-use raypool::sphere::Sphere;
+use raypool::scenes::builtin::builtin_scene;
+use raypool::tracer::bvh::Bvh;
+use raypool::tracer::ray::Ray;
+use raypool::tracer::real::{Real, Vec3};
+use raypool::tracer::sphere::Sphere;
 
 fn brute_force(spheres: &[Sphere], ray: &Ray) -> Option<(usize, Real)> {
     let mut best = None;

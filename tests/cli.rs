@@ -167,6 +167,27 @@ fn bad_scene_files_exit_2_with_location() {
 }
 
 #[test]
+fn oversized_and_endless_scene_files_are_refused_without_reading_them_whole() {
+    let dir = scratch("big-scenes");
+    let limit = raypool::scenes::format::MAX_SCENE_FILE_BYTES;
+    // A sparse file one byte over the bound: refused by size, not by its (zero) bytes.
+    std::fs::File::create(dir.join("huge.toml")).unwrap().set_len(limit + 1).unwrap();
+    assert_rejected(&dir, &["render", "--scene-file", "huge.toml", "--out", "x.png"], "larger than 16 MiB");
+    // Endless: reading it whole would run until the process is killed for memory.
+    assert_rejected(&dir, &["render", "--scene-file", "/dev/zero", "--out", "x.png"], "larger than 16 MiB");
+    std::fs::write(dir.join("binary.toml"), [0xff, 0xfe, 0x00, 0x80]).unwrap();
+    assert_rejected(&dir, &["render", "--scene-file", "binary.toml", "--out", "x.png"], "not UTF-8");
+    // A scene just under the bound, padded with a TOML comment, is still read.
+    let mut padded = raypool(&["scene", "paper1"], &dir).stdout;
+    padded.extend(b"\n#");
+    padded.resize(limit as usize - 1, b'x');
+    padded.push(b'\n');
+    std::fs::write(dir.join("padded.toml"), padded).unwrap();
+    let out = render(&dir, &["--scene-file", "padded.toml", "--out", "padded.png"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
 fn compare_reports_error_figures_and_writes_a_difference_map() {
     let dir = scratch("compare");
     for (name, spp) in [("noisy.pfm", "2"), ("ref.pfm", "32")] {

@@ -1,9 +1,9 @@
 //! Error falls as 1/√spp: the slope that `cargo bench --bench error` checks on every scene,
 //! checked here on one small scene.
 
-use raypool::builtin::builtin_scene;
-use raypool::convergence::{Reference, log_log_fit, timed_render};
-use raypool::render::RenderSettings;
+use raypool::measure::convergence::{Reference, log_log_fit, timed_render};
+use raypool::scenes::builtin::builtin_scene;
+use raypool::tracer::render::RenderSettings;
 
 #[test]
 fn error_falls_as_one_over_root_spp_on_three_spheres() {

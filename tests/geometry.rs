@@ -1,9 +1,9 @@
 //! Ray–sphere intersection and camera geometry.
 
-use raypool::camera::{Camera, CameraSettings};
-use raypool::ray::Ray;
-use raypool::real::{Real, Vec3};
-use raypool::sphere::Sphere;
+use raypool::tracer::camera::{Camera, CameraSettings};
+use raypool::tracer::ray::Ray;
+use raypool::tracer::real::{Real, Vec3};
+use raypool::tracer::sphere::Sphere;
 
 fn unit_sphere() -> Sphere {
     Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }

@@ -2,9 +2,9 @@
 
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
-use raypool::material::{Material, reflect, refract, schlick};
-use raypool::real::{Real, Vec3};
-use raypool::sphere::Hit;
+use raypool::tracer::material::{Material, reflect, refract, schlick};
+use raypool::tracer::real::{Real, Vec3};
+use raypool::tracer::sphere::Hit;
 
 fn hit(normal: Vec3, front_face: bool) -> Hit {
     Hit { t: 1.0, point: Vec3::ZERO, normal, front_face, material: 0, offset: 1e-6 }

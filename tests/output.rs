@@ -1,8 +1,8 @@
 //! Image files read back: PFM (linear, bottom-to-top rows), PPM (P6) and PNG.
 
-use raypool::image::Image;
-use raypool::output::{Format, encode, read_pfm};
-use raypool::real::{Real, Vec3, to_f32};
+use raypool::files::image::Image;
+use raypool::files::output::{Format, encode, read_pfm};
+use raypool::tracer::real::{Real, Vec3, to_f32};
 
 fn gradient(width: u32, height: u32) -> Image {
     let pixels = (0..width * height)

@@ -3,14 +3,14 @@
 
 use std::sync::Arc;
 
-use raypool::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::frame::{Frame, RngSource};
-use raypool::output::{Format, encode};
-use raypool::real::Real;
-use raypool::render::{Adaptive, RenderJob, RenderSettings};
-use raypool::sampler::PerSample;
-use raypool::scene::Scene;
-use raypool::schedule::{Rendered, Schedule, render};
+use raypool::files::output::{Format, encode};
+use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::schedule::frame::{Frame, RngSource};
+use raypool::schedule::modes::{Rendered, Schedule, render};
+use raypool::tracer::real::Real;
+use raypool::tracer::render::{Adaptive, RenderJob, RenderSettings};
+use raypool::tracer::sampler::PerSample;
+use raypool::tracer::scene::Scene;
 
 fn frame(scene: Scene, settings: RenderSettings, threads: usize) -> Arc<Frame> {
     let rng = RngSource::PerSample(PerSample { seed: settings.seed });
@@ -100,7 +100,7 @@ fn the_seed_changes_the_image_and_nothing_else_does() {
 fn every_builtin_renders_finite_pixels_and_counts_rays() {
     let settings =
         RenderSettings { width: 24, height: 16, spp: 2, max_depth: 50, seed: 3, ..Default::default() };
-    for b in raypool::builtin::BUILTINS {
+    for b in raypool::scenes::builtin::BUILTINS {
         let out = render_builtin(b.name, settings, Schedule::StaticBlocks, 2);
         assert!(out.image.pixels.iter().all(|p| p.is_finite() && p.min_element() >= 0.0), "{}", b.name);
         // At least one camera ray per sample; at most max_depth rays per sample.

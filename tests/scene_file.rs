@@ -1,8 +1,8 @@
 //! The TOML scene format: round trips, named materials, and precise error messages.
 
-use raypool::builtin::{BUILTINS, builtin_scene};
-use raypool::material::Material;
-use raypool::scene_file::SceneFile;
+use raypool::scenes::builtin::{BUILTINS, builtin_scene};
+use raypool::scenes::format::SceneFile;
+use raypool::tracer::material::Material;
 
 const MINIMAL: &str = r#"
 [camera]

@@ -3,12 +3,12 @@
 
 use std::sync::Arc;
 
-use raypool::conformance::{check, test_frame};
-use raypool::frame::{Frame, RngSource};
-use raypool::real::to_f64;
-use raypool::render::{RenderJob, RenderSettings, TileOutput};
-use raypool::sampler::SharedRng;
-use raypool::schedule::{Schedule, Scheduler, render};
+use raypool::schedule::conformance::{check, test_frame};
+use raypool::schedule::frame::{Frame, RngSource};
+use raypool::schedule::modes::{Schedule, Scheduler, render};
+use raypool::tracer::real::to_f64;
+use raypool::tracer::render::{RenderJob, RenderSettings, TileOutput};
+use raypool::tracer::sampler::SharedRng;
 
 #[test]
 fn every_builtin_mode_conforms_at_several_thread_counts() {
@@ -47,7 +47,7 @@ impl Scheduler for Reseeded {
         let settings = RenderSettings { seed: frame.job().settings.seed + 1, ..frame.job().settings };
         let other = Frame::new(
             RenderJob::new(frame.job().scene.clone(), settings),
-            RngSource::PerSample(raypool::sampler::PerSample { seed: settings.seed }),
+            RngSource::PerSample(raypool::tracer::sampler::PerSample { seed: settings.seed }),
             1,
             frame.tile_size,
             Arc::new(|_| {}),
@@ -94,7 +94,7 @@ fn shared_rng_renders_a_plausible_image_on_any_mode() {
     for schedule in [Schedule::Serial, Schedule::StaticBlocks, Schedule::Stealing] {
         let settings =
             RenderSettings { width: 40, height: 27, spp: 4, max_depth: 10, seed: 3, ..Default::default() };
-        let scene = raypool::builtin::builtin_scene("paper1", 0).unwrap().to_scene();
+        let scene = raypool::scenes::builtin::builtin_scene("paper1", 0).unwrap().to_scene();
         let frame = Arc::new(Frame::new(
             RenderJob::new(scene, settings),
             RngSource::Shared(Arc::new(SharedRng::new(3))),
@@ -115,8 +115,8 @@ fn static_blocks_differ_by_at_most_one_row() {
     // 5 rows on 4 threads: blocks of 1, 1, 1 and 2 rows, not ceil(5/4) = 2 rows for 3 threads.
     let settings =
         RenderSettings { width: 8, height: 5, spp: 1, max_depth: 4, seed: 1, ..Default::default() };
-    let scene = raypool::builtin::builtin_scene("paper1", 0).unwrap().to_scene();
-    let rng = RngSource::PerSample(raypool::sampler::PerSample { seed: 1 });
+    let scene = raypool::scenes::builtin::builtin_scene("paper1", 0).unwrap().to_scene();
+    let rng = RngSource::PerSample(raypool::tracer::sampler::PerSample { seed: 1 });
     let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 4, 4, Arc::new(|_| {})));
     let rendered = render(&frame, &Schedule::StaticBlocks);
     assert_eq!(rendered.threads_used(), 4);

@@ -1,17 +1,17 @@
 //! Numerical stress tests (issue #6): no NaN or infinite pixel anywhere, and energy exactly
 //! conserved where the answer is known, in f32, at scales from 10⁻³ to 10⁵. The cases and
-//! their known answers are in `raypool::stress`; here raypool's robust method must pass all
+//! their known answers are in `raypool::measure::stress`; here raypool's robust method must pass all
 //! of them. (`cargo bench --bench stability` shows how the book's method fares.)
 
-use raypool::sphere::Intersection;
-use raypool::stress::{StressCase, cases};
+use raypool::measure::stress::{StressCase, cases};
+use raypool::tracer::sphere::Intersection;
 
 fn case(name: &str) -> StressCase {
     cases().into_iter().find(|c| c.name.starts_with(name)).unwrap_or_else(|| panic!("no case '{name}'"))
 }
 
 /// No NaN, nothing darker than the floor or brighter than the ceiling.
-fn assert_exact(case: &StressCase) -> raypool::stress::Outcome {
+fn assert_exact(case: &StressCase) -> raypool::measure::stress::Outcome {
     let o = case.run(Intersection::Robust);
     assert_eq!(o.non_finite, 0, "{}: {o:?}", case.name);
     assert_eq!(o.dark, 0, "{}: pixels below {} (acne, energy lost): {o:?}", case.name, case.floor);

@@ -9,8 +9,8 @@ use std::path::Path;
 
 use plotters::style::colors::colormaps::{ColorMap, ViridisRGB};
 
-use crate::error::Error;
-use crate::output::{PendingOutput, io_reason, read_pfm};
+use crate::error::{Error, io_reason};
+use crate::files::output::{PendingOutput, read_pfm};
 
 /// Error figures of an image against a reference, over every channel of every pixel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,7 +31,7 @@ pub struct Metrics {
 ///
 /// ```
 /// let a = [[0.5f32, 0.5, 0.5]];
-/// let m = raypool::compare::metrics(&a, &[[0.25, 0.5, 0.5]]);
+/// let m = raypool::measure::compare::metrics(&a, &[[0.25, 0.5, 0.5]]);
 /// assert!((m.max_error - 0.25).abs() < 1e-12 && (m.mae - 0.25 / 3.0).abs() < 1e-12);
 /// ```
 pub fn metrics(image: &[[f32; 3]], reference: &[[f32; 3]]) -> Metrics {

@@ -18,9 +18,9 @@
 //! hit at exactly the same distance, which the testing order decides (26 of 41.7 M rays end
 //! differently in the ablation run of `results/perf.md`; the rays were not inspected).
 
-use crate::ray::Ray;
-use crate::real::{Real, Vec3};
-use crate::sphere::Sphere;
+use crate::tracer::ray::Ray;
+use crate::tracer::real::{Real, Vec3};
+use crate::tracer::sphere::Sphere;
 
 /// Scenes with fewer spheres than this are traced by testing every sphere. Measured single
 /// thread, 300 × 200, 16 spp (`results/perf.md`): the flat loop is 8% faster on paper1 (4
@@ -94,7 +94,7 @@ struct Node {
     axis: u8,
 }
 
-/// The hierarchy: nodes only; the spheres it indexes live in the [`Scene`](crate::scene::Scene).
+/// The hierarchy: nodes only; the spheres it indexes live in the [`Scene`](crate::tracer::scene::Scene).
 #[derive(Clone, Debug)]
 pub struct Bvh {
     nodes: Vec<Node>,

@@ -8,7 +8,7 @@
 use rand::rngs::SmallRng;
 use rand::{Rng, RngExt, SeedableRng};
 
-use crate::real::{Real, Vec3, consts::TAU};
+use crate::tracer::real::{Real, Vec3, consts::TAU};
 
 /// Where the random numbers of each pixel sample come from.
 ///

@@ -11,15 +11,15 @@
 
 use std::sync::Arc;
 
-use crate::camera::CameraSettings;
-use crate::frame::{Frame, RngSource};
-use crate::image::Image;
-use crate::real::to_f64;
-use crate::render::{RenderJob, RenderSettings};
-use crate::sampler::PerSample;
-use crate::scene_file::{BackgroundSpec, MaterialRef, MaterialSpec, SceneFile, SphereSpec};
-use crate::schedule::{Schedule, render};
-use crate::sphere::Intersection;
+use crate::files::image::Image;
+use crate::scenes::format::{BackgroundSpec, MaterialRef, MaterialSpec, SceneFile, SphereSpec};
+use crate::schedule::frame::{Frame, RngSource};
+use crate::schedule::modes::{Schedule, render};
+use crate::tracer::camera::CameraSettings;
+use crate::tracer::real::to_f64;
+use crate::tracer::render::{RenderJob, RenderSettings};
+use crate::tracer::sampler::PerSample;
+use crate::tracer::sphere::Intersection;
 
 /// Values within this of the floor or of 1 count as exact.
 pub const TOLERANCE: f64 = 1e-3;
@@ -65,7 +65,7 @@ impl StressCase {
     /// Renders the case with `intersection` and counts what is wrong.
     ///
     /// ```
-    /// use raypool::{sphere::Intersection, stress};
+    /// use raypool::{measure::stress, tracer::sphere::Intersection};
     /// let unit = stress::cases().into_iter().find(|c| c.name == "furnace, unit").unwrap();
     /// let outcome = unit.run(Intersection::Robust);
     /// assert_eq!((outcome.non_finite, outcome.dark, outcome.bright), (0, 0, 0));

@@ -12,8 +12,8 @@
 //!    ([`Sphere::spawn_offset`]). This replaces the book's fixed `t_min = 0.001`, which is too
 //!    large for tiny scenes and too small for a ground sphere of radius 10⁴ in f32.
 
-use crate::ray::Ray;
-use crate::real::{Real, Vec3};
+use crate::tracer::ray::Ray;
+use crate::tracer::real::{Real, Vec3};
 
 /// How rays meet spheres. Only [`Intersection::Robust`] is used for images; the book's
 /// method is kept so that `results/stability.md` and the ablation table can show what the

@@ -4,9 +4,9 @@
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
 
-use crate::camera::CameraSettings;
 use crate::error::Error;
-use crate::scene_file::{BackgroundSpec, MaterialRef, MaterialSpec, SceneFile, SphereSpec};
+use crate::scenes::format::{BackgroundSpec, MaterialRef, MaterialSpec, SceneFile, SphereSpec};
+use crate::tracer::camera::CameraSettings;
 
 /// The scene seed `final` uses unless told otherwise.
 pub const DEFAULT_SCENE_SEED: u64 = 2026;
@@ -35,27 +35,27 @@ pub const BUILTINS: &[Builtin] = &[
     Builtin {
         name: "paper1",
         about: "the paper's Fig. 1: red mirror, glass and blue spheres on a dark ground",
-        source: Source::Toml(include_str!("scenes/paper1.toml")),
+        source: Source::Toml(include_str!("paper1.toml")),
     },
     Builtin {
         name: "paper2",
         about: "the paper's Fig. 2: six fuzzy metal spheres on a ground of radius 10^4",
-        source: Source::Toml(include_str!("scenes/paper2.toml")),
+        source: Source::Toml(include_str!("paper2.toml")),
     },
     Builtin {
         name: "paper3",
         about: "the paper's Fig. 3: twenty grey spheres along a Fibonacci spiral",
-        source: Source::Toml(include_str!("scenes/paper3.toml")),
+        source: Source::Toml(include_str!("paper3.toml")),
     },
     Builtin {
         name: "three-spheres",
         about: "the book's chapter 13: hollow glass, matte and gold spheres with defocus blur",
-        source: Source::Toml(include_str!("scenes/three-spheres.toml")),
+        source: Source::Toml(include_str!("three-spheres.toml")),
     },
     Builtin {
         name: "furnace",
         about: "white furnace test: albedo-0.5 sphere under a white sky renders exactly 0.5",
-        source: Source::Toml(include_str!("scenes/furnace.toml")),
+        source: Source::Toml(include_str!("furnace.toml")),
     },
 ];
 

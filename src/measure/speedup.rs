@@ -8,15 +8,14 @@ use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use crate::cli::{DEFAULT_TILE, default_height};
 use crate::error::Error;
-use crate::frame::{Frame, RngSource};
-use crate::machine::Machine;
-use crate::plot::{Series, speedup_plot, timeline_plot};
-use crate::render::{RenderJob, RenderSettings};
-use crate::sampler::{PerSample, SharedRng};
-use crate::schedule::{Rendered, Schedule, Scheduler, render};
+use crate::measure::machine::Machine;
+use crate::measure::plot::{Series, speedup_plot, timeline_plot};
+use crate::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use crate::schedule::frame::{DEFAULT_TILE, Frame, RngSource};
+use crate::schedule::modes::{Rendered, Schedule, Scheduler, render};
+use crate::tracer::render::{RenderJob, RenderSettings, default_height};
+use crate::tracer::sampler::{PerSample, SharedRng};
 
 /// Sizes and repetitions of one benchmark run.
 #[derive(Clone, Debug)]

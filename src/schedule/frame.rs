@@ -7,12 +7,14 @@
 //! timelines are measured the same way for every scheduler, a student's included.
 
 use std::sync::Arc;
-use std::thread::ThreadId;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-use crate::image::Image;
-use crate::render::{RenderJob, Tile, TileOutput, render_tile};
-use crate::sampler::{PerSample, SharedRng};
+use crate::files::image::Image;
+use crate::tracer::render::{RenderJob, Tile, TileOutput, TileTiming, render_tile};
+use crate::tracer::sampler::{PerSample, SharedRng};
+
+/// Default tile side for the tiled modes, pixels (measured: `results/tile-size.md`).
+pub const DEFAULT_TILE: u32 = 16;
 
 /// Where pixel samples get their random numbers.
 #[derive(Clone, Debug)]
@@ -26,7 +28,7 @@ pub enum RngSource {
 /// Reports progress: called with the number of pixels just finished, from any thread.
 pub type Progress = Arc<dyn Fn(u64) + Send + Sync>;
 
-/// One render in progress, as handed to a [`Scheduler`](crate::schedule::Scheduler).
+/// One render in progress, as handed to a [`Scheduler`](crate::schedule::modes::Scheduler).
 #[derive(Clone)]
 pub struct Frame {
     job: Arc<RenderJob>,
@@ -37,17 +39,6 @@ pub struct Frame {
     pub tile_size: u32,
     progress: Progress,
     epoch: Instant,
-}
-
-/// When and on which thread a tile was rendered (relative to the frame's start).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct TileTiming {
-    /// The rendering thread.
-    pub thread: ThreadId,
-    /// Start, since the frame was created.
-    pub start: Duration,
-    /// End, since the frame was created.
-    pub end: Duration,
 }
 
 impl Frame {

@@ -1,16 +1,16 @@
 //! A scene ready to render: flat arrays of spheres and materials, a background, a camera.
 //!
-//! Built from a [`SceneFile`](crate::scene_file::SceneFile), which is what users write;
+//! Built from a [`SceneFile`](crate::scenes::format::SceneFile), which is what users write;
 //! this is what the tracer reads. Everything is plain data (`Sync` for free), shared by
 //! reference between render threads.
 
-use crate::background::Background;
-use crate::bvh::{BVH_MIN_SPHERES, Bvh};
-use crate::camera::CameraSettings;
-use crate::material::Material;
-use crate::ray::Ray;
-use crate::real::Real;
-use crate::sphere::{Hit, Intersection, Sphere};
+use crate::tracer::background::Background;
+use crate::tracer::bvh::{BVH_MIN_SPHERES, Bvh};
+use crate::tracer::camera::CameraSettings;
+use crate::tracer::material::Material;
+use crate::tracer::ray::Ray;
+use crate::tracer::real::Real;
+use crate::tracer::sphere::{Hit, Intersection, Sphere};
 
 /// Geometry, materials, background and camera of one scene.
 #[derive(Clone, Debug)]

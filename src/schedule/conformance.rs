@@ -6,17 +6,17 @@
 
 use std::sync::Arc;
 
-use crate::builtin::builtin_scene;
-use crate::frame::{Frame, RngSource};
-use crate::render::{RenderJob, RenderSettings};
-use crate::sampler::PerSample;
-use crate::schedule::{Schedule, Scheduler};
+use crate::scenes::builtin::builtin_scene;
+use crate::schedule::frame::{Frame, RngSource};
+use crate::schedule::modes::{Schedule, Scheduler};
+use crate::tracer::render::{RenderJob, RenderSettings};
+use crate::tracer::sampler::PerSample;
 
 /// Checks `scheduler` on `threads` threads; the error says what went wrong.
 ///
 /// ```
-/// use raypool::schedule::Schedule;
-/// raypool::conformance::check(&Schedule::Stealing, 3).unwrap();
+/// use raypool::schedule::modes::Schedule;
+/// raypool::schedule::conformance::check(&Schedule::Stealing, 3).unwrap();
 /// ```
 pub fn check(scheduler: &dyn Scheduler, threads: usize) -> Result<(), String> {
     let frame = test_frame(threads);

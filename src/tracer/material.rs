@@ -6,9 +6,9 @@
 
 use rand::Rng;
 
-use crate::real::{Real, Vec3};
-use crate::sampler::{random_unit_vector, uniform};
-use crate::sphere::Hit;
+use crate::tracer::real::{Real, Vec3};
+use crate::tracer::sampler::{random_unit_vector, uniform};
+use crate::tracer::sphere::Hit;
 
 /// A surface's material, as in *Ray Tracing in One Weekend*.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -11,15 +11,15 @@
 //! | `steal` | square tiles on the Stealing pool, dealt in contiguous runs | stealing rebalances |
 //!
 //! Write your own by implementing [`Scheduler`]; check it with
-//! [`conformance::check`](crate::conformance::check).
+//! [`conformance::check`](crate::schedule::conformance::check).
 
 use std::sync::Arc;
 
 use pool::{Discipline, ThreadPool};
 
-use crate::frame::{Frame, TileTiming};
-use crate::image::Image;
-use crate::render::{Tile, TileOutput};
+use crate::files::image::Image;
+use crate::schedule::frame::Frame;
+use crate::tracer::render::{Tile, TileOutput, TileTiming};
 
 /// A way of distributing a frame's tiles over threads.
 ///
@@ -29,9 +29,9 @@ use crate::render::{Tile, TileOutput};
 ///
 /// ```
 /// use std::sync::Arc;
-/// use raypool::frame::Frame;
-/// use raypool::render::TileOutput;
-/// use raypool::schedule::Scheduler;
+/// use raypool::schedule::frame::Frame;
+/// use raypool::tracer::render::TileOutput;
+/// use raypool::schedule::modes::Scheduler;
 ///
 /// /// Bottom row first, on the calling thread.
 /// struct Upside;
@@ -40,7 +40,7 @@ use crate::render::{Tile, TileOutput};
 ///         frame.rows().into_iter().rev().map(|row| frame.render(row)).collect()
 ///     }
 /// }
-/// raypool::conformance::check(&Upside, 1).unwrap();
+/// raypool::schedule::conformance::check(&Upside, 1).unwrap();
 /// ```
 pub trait Scheduler: Sync {
     /// Renders every pixel of `frame` once; returns the rendered tiles.

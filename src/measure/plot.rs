@@ -12,7 +12,7 @@ use plotters::prelude::*;
 use plotters::style::FontStyle;
 
 use crate::error::Error;
-use crate::output::PendingOutput;
+use crate::files::output::PendingOutput;
 
 const SIZE: (u32, u32) = (960, 600);
 

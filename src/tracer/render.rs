@@ -5,17 +5,34 @@
 //! value depends only on the scene, the settings and its own random streams (see
 //! `sampler.rs`), the image is bit-identical whatever the schedule.
 
-use crate::camera::Camera;
-use crate::frame::TileTiming;
-use crate::ray::Ray;
-use crate::real::{Real, Vec3};
-use crate::sampler::{RandomStreams, uniform};
-use crate::scene::Scene;
+use std::thread::ThreadId;
+use std::time::Duration;
+
+use crate::error::Error;
+use crate::tracer::camera::Camera;
+use crate::tracer::ray::Ray;
+use crate::tracer::real::{Real, Vec3};
+use crate::tracer::sampler::{RandomStreams, uniform};
+use crate::tracer::scene::Scene;
+
+/// Largest accepted image side, pixels (the command line and every other entry point check it).
+pub const MAX_SIDE: u32 = 16384;
+
+/// The height that gives `aspect` (width ÷ height) at `width`, at least 1 pixel.
+pub fn default_height(width: u32, aspect: f64) -> Result<u32, Error> {
+    let h = (width as f64 / aspect).round().max(1.0);
+    if h > MAX_SIDE as f64 {
+        return Err(Error::new(format!(
+            "height {h} (width ÷ camera.aspect) is above {MAX_SIDE}: pass --height"
+        )));
+    }
+    Ok(h as u32)
+}
 
 /// Image size and sampling parameters of one render.
 ///
 /// ```
-/// use raypool::render::RenderSettings;
+/// use raypool::tracer::render::RenderSettings;
 /// let settings = RenderSettings { width: 64, height: 48, spp: 8, ..RenderSettings::default() };
 /// assert!(settings.stop_black_paths && !settings.roulette && settings.adaptive.is_none());
 /// ```
@@ -71,8 +88,8 @@ pub const ROULETTE_AFTER: u32 = 4;
 /// (seed, pixel, sample), so the image stays identical whatever the scheduler.
 ///
 /// ```
-/// use raypool::render::Adaptive;
-/// use raypool::render::LuminanceStats;
+/// use raypool::tracer::render::Adaptive;
+/// use raypool::tracer::render::LuminanceStats;
 /// let adaptive = Adaptive { target_error: 0.02, min_spp: 16 };
 /// let mut steady = LuminanceStats::default();
 /// (0..16).for_each(|_| steady.push(0.5));
@@ -164,8 +181,19 @@ pub struct TileOutput {
     pub rays: u64,
     /// Camera samples taken (`spp × area`, or fewer with adaptive sampling).
     pub samples: u64,
-    /// Which thread rendered it, and when (set by [`Frame::render`](crate::frame::Frame::render)).
+    /// Which thread rendered it, and when (set by [`Frame::render`](crate::schedule::frame::Frame::render)).
     pub timing: Option<TileTiming>,
+}
+
+/// When and on which thread a tile was rendered (relative to the frame's start).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TileTiming {
+    /// The rendering thread.
+    pub thread: ThreadId,
+    /// Start, since the frame was created.
+    pub start: Duration,
+    /// End, since the frame was created.
+    pub end: Duration,
 }
 
 /// Everything a tile needs, immutable for the whole render (shareable between threads).

@@ -13,14 +13,14 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::compare::metrics;
-use crate::frame::{Frame, RngSource};
-use crate::image::Image;
-use crate::real::{Vec3, to_f32};
-use crate::render::{RenderJob, RenderSettings};
-use crate::sampler::PerSample;
-use crate::scene::Scene;
-use crate::schedule::{Rendered, Schedule, render};
+use crate::files::image::Image;
+use crate::measure::compare::metrics;
+use crate::schedule::frame::{Frame, RngSource};
+use crate::schedule::modes::{Rendered, Schedule, render};
+use crate::tracer::real::{Vec3, to_f32};
+use crate::tracer::render::{RenderJob, RenderSettings};
+use crate::tracer::sampler::PerSample;
+use crate::tracer::scene::Scene;
 
 /// Seeds of the reference's two halves: far from the small seeds measured renders use.
 const REFERENCE_SEEDS: [u64; 2] = [1_000_001, 1_000_002];
@@ -42,7 +42,7 @@ impl Reference {
     /// The reference made of two independent halves (rendered with different seeds).
     ///
     /// ```
-    /// # use raypool::{convergence::Reference, image::Image, real::Vec3};
+    /// # use raypool::{files::image::Image, measure::convergence::Reference, tracer::real::Vec3};
     /// let half = |v: f32| Image { width: 1, height: 1, pixels: vec![Vec3::splat(v.into())] };
     /// let r = Reference::from_halves(&half(0.4), &half(0.6), 64);
     /// assert!((r.noise - 0.1).abs() < 1e-6 && r.spp == 128);
@@ -97,7 +97,7 @@ pub fn rmse(a: &Image, b: &Image) -> f64 {
 ///
 /// ```
 /// let points: Vec<(f64, f64)> = [1.0, 4.0, 16.0].iter().map(|&n| (n, 0.3 / f64::sqrt(n))).collect();
-/// let (slope, log_c) = raypool::convergence::log_log_fit(&points);
+/// let (slope, log_c) = raypool::measure::convergence::log_log_fit(&points);
 /// assert!((slope + 0.5).abs() < 1e-12 && (log_c - 0.3f64.ln()).abs() < 1e-12);
 /// ```
 pub fn log_log_fit(points: &[(f64, f64)]) -> (f64, f64) {

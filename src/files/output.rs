@@ -13,9 +13,9 @@ use image::codecs::png::PngEncoder;
 use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
 use tempfile::NamedTempFile;
 
-use crate::error::Error;
-use crate::image::Image;
-use crate::real::to_f32;
+use crate::error::{Error, io_reason};
+use crate::files::image::Image;
+use crate::tracer::real::to_f32;
 
 /// An output format, chosen by the file extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -166,11 +166,4 @@ pub fn read_pfm(bytes: &[u8]) -> Result<(u32, u32, Vec<[f32; 3]>), String> {
         .collect();
     rows.reverse(); // stored bottom-to-top
     Ok((w, h, rows.concat()))
-}
-
-/// An I/O error's message without the trailing "(os error N)".
-pub(crate) fn io_reason(e: &std::io::Error) -> String {
-    // The io::Error Display adds "(os error N)"; the kind's description reads better.
-    let text = e.to_string();
-    text.split(" (os error").next().unwrap_or(&text).to_owned()
 }

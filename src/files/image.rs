@@ -1,7 +1,7 @@
 //! The frame buffer: linear RGB pixels assembled from rendered tiles, and its 8-bit form.
 
-use crate::real::{Vec3, to_f64};
-use crate::render::TileOutput;
+use crate::tracer::real::{Vec3, to_f64};
+use crate::tracer::render::TileOutput;
 
 /// A linear-light RGB image, row-major, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]

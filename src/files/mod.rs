@@ -1,0 +1,10 @@
+//! **Files**: the frame buffer that rendered tiles are assembled into, and the PNG, PPM and
+//! PFM files it is written to, always atomically (a temporary file, then a rename), so a
+//! failed run never leaves half an image behind.
+//!
+//! It may use [`crate::tracer`] (pixels are [`crate::tracer::real::Vec3`], tiles arrive as
+//! [`crate::tracer::render::TileOutput`]) and [`crate::error`], nothing above. The schedulers
+//! assemble images with it; the measurements and the command line read and write files with it.
+
+pub mod image;
+pub mod output;

@@ -1,0 +1,15 @@
+//! **Measurement**: the speedup benchmark, error against a reference and its convergence with
+//! samples, the numerical stress cases, the plots, and the machine label that every committed
+//! figure carries.
+//!
+//! It may use every layer below: [`crate::tracer`], [`crate::scenes`], [`crate::files`],
+//! [`crate::schedule`] and [`crate::error`]. Only the command line and the `benches/` use it.
+//! The stress cases live here, not in [`crate::scenes`], because they are a check, not just
+//! scenes: each renders itself and judges the pixels against a known answer.
+
+pub mod speedup;
+pub mod convergence;
+pub mod compare;
+pub mod stress;
+pub mod plot;
+pub mod machine;

@@ -1,0 +1,12 @@
+//! **Scheduling: who renders which tile.** A [`frame::Frame`] is a render in progress and the
+//! only way to render a tile; [`modes`] holds the [`modes::Scheduler`] trait and the six
+//! built-in ways to share a frame's tiles among threads (static blocks, interleaved rows, the
+//! two pools, stealing); [`conformance`] is the check a student's scheduler must pass.
+//!
+//! It may use [`crate::tracer`], [`crate::files`] (a frame is assembled into an
+//! [`crate::files::image::Image`]), [`crate::scenes`] (the conformance check renders a built-in
+//! scene), the `pool` crate and [`crate::error`]. The measurements and the command line use it.
+
+pub mod frame;
+pub mod modes;
+pub mod conformance;

@@ -1,0 +1,19 @@
+//! **The book's tracer**, in the book's order: numbers, rays, spheres, materials, the camera,
+//! the sky, the hierarchy that finds hits fast, the scene that holds them, random numbers,
+//! and the one render loop that turns a tile of pixels into colours.
+//!
+//! This is the bottom layer. It may use only itself, [`crate::error`] and outside crates; it
+//! knows nothing of files, scene formats, threads or measurement. Everything above uses it:
+//! [`crate::scenes`] builds a [`scene::Scene`], [`crate::schedule`] calls
+//! [`render::render_tile`] on many threads, [`crate::files`] stores its [`render::TileOutput`]s.
+
+pub mod real;
+pub mod ray;
+pub mod sphere;
+pub mod material;
+pub mod camera;
+pub mod background;
+pub mod bvh;
+pub mod scene;
+pub mod sampler;
+pub mod render;
