@@ -16,7 +16,7 @@ use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Schedule, render};
 use raypool::tracer::render::{RenderJob, RenderSettings};
 use raypool::tracer::sampler::{PerSample, SharedRng};
-use raypool::tracer::scene::Scene;
+use raypool::tracer::scene::{Accel, Scene};
 use raypool::tracer::sphere::Intersection;
 
 /// One row of the table: a change to the default renderer.
@@ -31,7 +31,7 @@ struct Variant {
     rounds: usize,
 }
 
-const VARIANTS: [Variant; 6] = [
+const VARIANTS: [Variant; 9] = [
     Variant {
         name: "default (all on)",
         kind: "reference",
@@ -41,8 +41,32 @@ const VARIANTS: [Variant; 6] = [
         rounds: 3,
     },
     Variant {
+        name: "binary SAH tree instead of the 4-wide one (the previous default)",
+        kind: "exact (tested)",
+        scene: |s| s.with_accel(Accel::Binary),
+        settings: |s| s,
+        shared_rng: false,
+        rounds: 3,
+    },
+    Variant {
+        name: "4-wide tree, leaves tested as 4-lane SIMD packets",
+        kind: "exact (tested)",
+        scene: |s| s.with_accel(Accel::WidePackets),
+        settings: |s| s,
+        shared_rng: false,
+        rounds: 3,
+    },
+    Variant {
+        name: "4-wide tree, huge spheres (the ground) kept out and tested first",
+        kind: "exact (tested)",
+        scene: |s| s.with_accel(Accel::WideHugeApart),
+        settings: |s| s,
+        shared_rng: false,
+        rounds: 3,
+    },
+    Variant {
         name: "no BVH: every sphere tested",
-        kind: "same hits but for rare ties",
+        kind: "exact (tested)",
         scene: Scene::without_bvh,
         settings: |s| s,
         shared_rng: false,

@@ -3,8 +3,10 @@
 //! goes through `black_box`: a result left unused lets the optimiser delete the work.
 //!
 //! - `sphere/*`: the stable ray–sphere test, for rays that hit and rays that miss;
-//! - `bvh/final`: the closest hit of random rays in the book's final scene, through the BVH,
-//!   and `flat/final` the same rays testing every sphere (what the BVH saves);
+//! - `closest-hit/{camera,bounce}/*`: the closest hit in the book's final scene of camera
+//!   rays and of the diffuse bounces leaving their hits, by each [`Accel`]: the binary tree,
+//!   the four-wide tree (the default) with scalar or SIMD-packet leaves or the ground kept
+//!   apart, and every sphere tested (what a hierarchy saves);
 //! - `scatter/*`: one scattering event per material.
 
 use std::hint::black_box;
@@ -13,11 +15,11 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
 use raypool::scenes::builtin::builtin_scene;
-use raypool::tracer::bvh::Bvh;
 use raypool::tracer::material::Material;
 use raypool::tracer::ray::Ray;
 use raypool::tracer::real::{Real, Vec3};
 use raypool::tracer::sampler::random_unit_vector;
+use raypool::tracer::scene::Accel;
 use raypool::tracer::sphere::{Hit, Sphere};
 
 const RAYS: usize = 4096;
@@ -43,34 +45,33 @@ fn sphere_tests(c: &mut Criterion) {
 
 fn traversal(c: &mut Criterion) {
     let scene = builtin_scene("final", 2026).expect("final builds").to_scene();
-    let mut spheres = scene.spheres().to_vec();
-    let bvh = Bvh::build(&mut spheres);
     let mut rng = SmallRng::seed_from_u64(2);
-    // Camera-like rays from the book's viewpoint into the scene.
-    let rays = rays_towards(&mut rng, Vec3::new(13.0, 2.0, 3.0), 4.0, Vec3::ZERO);
-    let mut group = c.benchmark_group("closest-hit");
-    group.throughput(Throughput::Elements(RAYS as u64));
-    group.bench_function("bvh/final", |b| {
-        b.iter(|| {
-            rays.iter().for_each(|r| {
-                _ = black_box(bvh.hit(&spheres, black_box(r), Real::INFINITY, Sphere::intersect))
-            })
-        })
-    });
-    group.bench_function("flat/final", |b| {
-        b.iter(|| {
-            rays.iter().for_each(|r| {
-                let mut closest = Real::INFINITY;
-                for s in &spheres {
-                    if let Some(t) = s.intersect(black_box(r), closest) {
-                        closest = t;
-                    }
-                }
-                black_box(closest);
-            })
-        })
-    });
-    group.finish();
+    // Camera-like rays from the book's viewpoint into the scene, and the diffuse bounces
+    // that leave where they hit (most of a render's rays start on a surface).
+    let camera = rays_towards(&mut rng, Vec3::new(13.0, 2.0, 3.0), 4.0, Vec3::ZERO);
+    let bounce: Vec<Ray> = camera
+        .iter()
+        .filter_map(|r| scene.hit(r, Real::INFINITY))
+        .map(|hit| hit.spawn((hit.normal + random_unit_vector(&mut rng)).normalize()))
+        .collect();
+    let accels = [
+        ("binary", Accel::Binary),
+        ("wide", Accel::Wide),
+        ("wide-packets", Accel::WidePackets),
+        ("wide-huge-apart", Accel::WideHugeApart),
+        ("flat", Accel::Flat),
+    ];
+    for (kind, rays) in [("camera", &camera), ("bounce", &bounce)] {
+        let mut group = c.benchmark_group(format!("closest-hit/{kind}"));
+        group.throughput(Throughput::Elements(rays.len() as u64));
+        for (name, accel) in accels {
+            let scene = scene.clone().with_accel(accel);
+            group.bench_function(name, |b| {
+                b.iter(|| rays.iter().for_each(|r| _ = black_box(scene.hit(black_box(r), Real::INFINITY))))
+            });
+        }
+        group.finish();
+    }
 }
 
 fn scattering(c: &mut Criterion) {

@@ -5,7 +5,7 @@
 //!
 //! | layer | what it holds |
 //! |---|---|
-//! | [`tracer`] | the book's tracer in the book's order: [`tracer::real`], [`tracer::ray`], [`tracer::sphere`], [`tracer::material`], [`tracer::camera`], [`tracer::background`], [`tracer::bvh`], [`tracer::scene`], [`tracer::sampler`], and [`tracer::render`], the one render loop |
+//! | [`tracer`] | the book's tracer in the book's order: [`tracer::real`], [`tracer::ray`], [`tracer::sphere`], [`tracer::material`], [`tracer::camera`], [`tracer::background`], [`tracer::packet`], [`tracer::bvh`], [`tracer::wide`], [`tracer::scene`], [`tracer::sampler`], and [`tracer::render`], the one render loop |
 //! | [`scenes`] | scenes as data: the TOML [`scenes::format`] and the [`scenes::builtin`] scenes |
 //! | [`files`] | the frame buffer ([`files::image`]) and the PNG/PPM/PFM writers ([`files::output`]) |
 //! | [`schedule`] | who renders which tile: [`schedule::frame`] (a render in progress), the [`schedule::modes`] and the [`schedule::conformance`] check |

@@ -13,20 +13,16 @@
 //!   (the slab test); the child on the side the ray comes from is visited first, and any box
 //!   farther than the closest hit found so far is skipped.
 //!
-//! The hierarchy changes which spheres are tested, not which is closest: the same closest
-//! hit is found with the same sphere test. The exception, most likely, is a tie: two spheres
-//! hit at exactly the same distance, which the testing order decides (26 of 41.7 M rays end
-//! differently in the ablation run of `results/perf.md`; the rays were not inspected).
+//! The hierarchy changes which spheres are tested, not which is closest: boxes are padded by
+//! the sphere test's rounding bound, and of two spheres hit at exactly the same distance the
+//! lower index wins, so it reports exactly what testing every sphere in order reports
+//! (`tests/bvh.rs` compares whole images). The renderer traverses the four-wide tree that
+//! `wide.rs` collapses from this one; the binary traversal stays for comparison.
 
+use crate::tracer::packet::Closest;
 use crate::tracer::ray::Ray;
 use crate::tracer::real::{Real, Vec3};
 use crate::tracer::sphere::Sphere;
-
-/// Scenes with fewer spheres than this are traced by testing every sphere. Measured single
-/// thread, 300 × 200, 16 spp (`results/perf.md`): the flat loop is 8% faster on paper1 (4
-/// spheres) and three-spheres (5); the hierarchy is 8% faster on paper2 (7) and 30% on
-/// paper3 (21).
-pub const BVH_MIN_SPHERES: usize = 6;
 
 /// Leaves hold at most this many spheres when splitting stops paying off.
 const MAX_LEAF: usize = 4;
@@ -47,8 +43,12 @@ struct Aabb {
 impl Aabb {
     const EMPTY: Aabb = Aabb { min: Vec3::splat(Real::INFINITY), max: Vec3::splat(Real::NEG_INFINITY) };
 
+    /// The sphere's box, padded by [`Sphere::spawn_offset`]: the sphere test's computed hits
+    /// can lie that far outside the exact sphere (measured: the ground of `final`, radius
+    /// 1000, was hit 1.7·10⁻⁵ above its box's top, so the box was skipped and a farther
+    /// sphere reported; `results/perf.md`).
     fn of_sphere(s: &Sphere) -> Aabb {
-        let r = Vec3::splat(s.radius.abs());
+        let r = Vec3::splat(s.radius.abs() + s.spawn_offset());
         Aabb { min: s.center - r, max: s.center + r }
     }
 
@@ -103,9 +103,17 @@ pub struct Bvh {
 impl Bvh {
     /// Builds the hierarchy, reordering `spheres` so that each leaf's spheres are contiguous.
     pub fn build(spheres: &mut [Sphere]) -> Bvh {
-        let mut nodes = Vec::with_capacity(2 * spheres.len() / MAX_LEAF + 1);
+        Bvh::build_with_leaves(spheres, 1)
+    }
+
+    /// Builds the hierarchy with every group of at most `leaf` spheres (1 to 4) kept in one
+    /// leaf: for the four-wide tree, whose leaves test four spheres in one go, a leaf of four
+    /// costs about what a leaf of one does.
+    pub fn build_with_leaves(spheres: &mut [Sphere], leaf: usize) -> Bvh {
+        assert!((1..=MAX_LEAF).contains(&leaf), "leaves of 1 to {MAX_LEAF} spheres");
+        let mut nodes = Vec::with_capacity(2 * spheres.len() / leaf + 1);
         if !spheres.is_empty() {
-            build_node(spheres, 0, 0, &mut nodes);
+            build_node(spheres, 0, 0, leaf, &mut nodes);
         }
         Bvh { nodes }
     }
@@ -126,8 +134,31 @@ impl Bvh {
         if self.nodes.is_empty() { 0 } else { below(&self.nodes, 0) }
     }
 
+    /// Spheres of node `at` if it is a leaf (a range of the array the tree was built over).
+    pub(crate) fn leaf(&self, at: usize) -> Option<std::ops::Range<usize>> {
+        let n = &self.nodes[at];
+        (n.count > 0).then(|| n.index as usize..n.index as usize + n.count as usize)
+    }
+
+    /// The two children of node `at` if it is an inner node.
+    pub(crate) fn children(&self, at: usize) -> Option<(usize, usize)> {
+        (self.nodes[at].count == 0).then(|| (at + 1, self.nodes[at].index as usize))
+    }
+
+    /// Lower and upper corners of node `at`'s box.
+    pub(crate) fn bounds(&self, at: usize) -> (Vec3, Vec3) {
+        (self.nodes[at].bounds.min, self.nodes[at].bounds.max)
+    }
+
+    /// Half the surface area of node `at`'s box (proportional to a ray's chance of hitting it).
+    pub(crate) fn half_area(&self, at: usize) -> Real {
+        self.nodes[at].bounds.half_area()
+    }
+
     /// The closest sphere hit before `t_max`, as found by `test` (normally
-    /// [`Sphere::intersect`]): `(index into spheres, t)`.
+    /// [`Sphere::intersect`]): `(index into spheres, t)`. Of two spheres hit at exactly the
+    /// same distance, the one with the lower index is reported, as testing every sphere in
+    /// order would.
     #[inline]
     pub fn hit(
         &self,
@@ -138,20 +169,18 @@ impl Bvh {
     ) -> Option<(usize, Real)> {
         let inv_dir = ray.dir.recip();
         let from_negative = [ray.dir.x < 0.0, ray.dir.y < 0.0, ray.dir.z < 0.0];
-        let mut closest = t_max;
-        let mut found = None;
+        let mut closest = Closest::none(t_max);
         let mut stack = [0u32; STACK];
         let mut depth = 0;
         let mut node = 0usize;
         loop {
             let n = &self.nodes[node];
-            if n.bounds.hit(ray.origin, inv_dir, closest) {
+            if n.bounds.hit(ray.origin, inv_dir, closest.bound()) {
                 if n.count > 0 {
                     let first = n.index as usize;
                     for (k, sphere) in spheres[first..first + n.count as usize].iter().enumerate() {
-                        if let Some(t) = test(sphere, ray, closest) {
-                            closest = t;
-                            found = Some(first + k);
+                        if let Some(t) = test(sphere, ray, closest.bound()) {
+                            closest.offer(t, (first + k) as u32);
                         }
                     }
                 } else {
@@ -168,7 +197,7 @@ impl Bvh {
                 }
             }
             if depth == 0 {
-                return found.map(|i| (i, closest));
+                return closest.found();
             }
             depth -= 1;
             node = stack[depth] as usize;
@@ -178,18 +207,24 @@ impl Bvh {
 
 /// Builds the subtree over `spheres` (which start at index `first` of the scene's array) at
 /// `depth`, appending its nodes depth-first: the subtree's root is the first node appended.
-fn build_node(spheres: &mut [Sphere], first: usize, depth: usize, nodes: &mut Vec<Node>) {
+fn build_node(spheres: &mut [Sphere], first: usize, depth: usize, leaf: usize, nodes: &mut Vec<Node>) {
     let bounds = spheres.iter().map(Aabb::of_sphere).fold(Aabb::EMPTY, Aabb::union);
     let at = nodes.len();
     nodes.push(Node { bounds, index: first as u32, count: spheres.len() as u16, axis: 0 });
-    let split = if depth < SAH_DEPTH { choose_split(spheres, &bounds) } else { median_split(spheres) };
+    let split = if spheres.len() <= leaf {
+        None
+    } else if depth < SAH_DEPTH {
+        choose_split(spheres, &bounds)
+    } else {
+        median_split(spheres)
+    };
     let Some((axis, mid)) = split else { return };
     nodes[at].axis = axis as u8;
     nodes[at].count = 0;
     let (left, right) = spheres.split_at_mut(mid);
-    build_node(left, first, depth + 1, nodes);
+    build_node(left, first, depth + 1, leaf, nodes);
     nodes[at].index = nodes.len() as u32;
-    build_node(right, first + mid, depth + 1, nodes);
+    build_node(right, first + mid, depth + 1, leaf, nodes);
 }
 
 /// Halves `spheres` at the median centre along their widest axis; `None` for a leaf.

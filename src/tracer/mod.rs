@@ -1,6 +1,8 @@
 //! **The book's tracer**, in the book's order: numbers, rays, spheres, materials, the camera,
-//! the sky, the hierarchy that finds hits fast, the scene that holds them, random numbers,
-//! and the one render loop that turns a tile of pixels into colours.
+//! the sky, the hierarchies that find hits fast (spheres four at a time in `packet`, the
+//! binary tree in `bvh`, the four-wide tree collapsed from it in `wide`), the scene that
+//! holds them, random numbers, and the one render loop that turns a tile of pixels into
+//! colours.
 //!
 //! This is the bottom layer. It may use only itself, [`crate::error`] and outside crates; it
 //! knows nothing of files, scene formats, threads or measurement. Everything above uses it:
@@ -13,7 +15,9 @@ pub mod sphere;
 pub mod material;
 pub mod camera;
 pub mod background;
+pub mod packet;
 pub mod bvh;
+pub mod wide;
 pub mod scene;
 pub mod sampler;
 pub mod render;

@@ -5,20 +5,67 @@
 //! reference between render threads.
 
 use crate::tracer::background::Background;
-use crate::tracer::bvh::{BVH_MIN_SPHERES, Bvh};
+use crate::tracer::bvh::Bvh;
 use crate::tracer::camera::CameraSettings;
 use crate::tracer::material::Material;
+use crate::tracer::packet::Closest;
 use crate::tracer::ray::Ray;
 use crate::tracer::real::Real;
 use crate::tracer::sphere::{Hit, Intersection, Sphere};
+use crate::tracer::wide::WideBvh;
+
+/// Scenes with fewer spheres than this test every sphere: a hierarchy costs more than it
+/// saves there (`results/perf.md`).
+pub const BVH_MIN_SPHERES: usize = 6;
+
+/// A sphere whose box has at least this fraction of the half-area of the box around every
+/// sphere is "huge" (the ground of `final`, radius 1000): nearly every ray enters its box,
+/// so it is tested directly, before the hierarchy, instead of from inside it.
+const HUGE_FRACTION: Real = 0.5;
+/// At most this many spheres are kept apart as huge.
+const MAX_HUGE: usize = 4;
+
+/// Spheres per leaf of the four-wide tree (measured: `results/perf.md`).
+const WIDE_LEAF: usize = 4;
+
+/// How a scene finds the closest hit: what the ablation table switches. Every choice finds
+/// exactly the same hits (`tests/bvh.rs`); only the time differs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Accel {
+    /// Test every sphere, one by one.
+    Flat,
+    /// The binary SAH tree of `bvh.rs` (the default before the four-wide tree).
+    Binary,
+    /// The four-wide tree of `wide.rs`, leaves of up to four spheres tested one by one: the
+    /// default for scenes of [`BVH_MIN_SPHERES`] or more.
+    Wide,
+    /// The four-wide tree, each leaf's spheres tested together in the lanes of one SIMD
+    /// register (`packet.rs`).
+    WidePackets,
+    /// The four-wide tree with the huge spheres (the ground) kept out of it and tested
+    /// directly for every ray.
+    WideHugeApart,
+}
+
+/// The hierarchy over the spheres that are not tested directly.
+#[derive(Clone, Debug)]
+enum Tree {
+    None,
+    Binary(Bvh),
+    Wide(WideBvh),
+}
 
 /// Geometry, materials, background and camera of one scene.
 #[derive(Clone, Debug)]
 pub struct Scene {
+    /// Spheres tested directly first, then the spheres the tree holds.
     spheres: Vec<Sphere>,
     materials: Vec<Material>,
-    /// Built only for scenes of at least [`BVH_MIN_SPHERES`] spheres.
-    bvh: Option<Bvh>,
+    /// Over `spheres[direct_count..]`.
+    tree: Tree,
+    /// `spheres[..direct_count]` are tested for every ray, one by one.
+    direct_count: usize,
+    accel: Accel,
     /// How rays meet spheres: robust unless a comparison asks for the book's method.
     intersection: Intersection,
     /// Light for rays that escape.
@@ -28,13 +75,13 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// A scene of these spheres (each `material` indexing `materials`). Large scenes get a
-    /// [`Bvh`], which reorders the spheres.
+    /// A scene of these spheres (each `material` indexing `materials`). Scenes of
+    /// [`BVH_MIN_SPHERES`] or more get the four-wide hierarchy, which reorders the spheres.
     ///
     /// # Panics
     /// If a sphere's material index is out of range.
     pub fn new(
-        mut spheres: Vec<Sphere>,
+        spheres: Vec<Sphere>,
         materials: Vec<Material>,
         background: Background,
         camera: CameraSettings,
@@ -43,15 +90,51 @@ impl Scene {
             spheres.iter().all(|s| (s.material as usize) < materials.len()),
             "material index out of range"
         );
-        let bvh = (spheres.len() >= BVH_MIN_SPHERES).then(|| Bvh::build(&mut spheres));
-        Scene { spheres, materials, bvh, intersection: Intersection::Robust, background, camera }
+        let accel = if spheres.len() >= BVH_MIN_SPHERES { Accel::Wide } else { Accel::Flat };
+        let scene = Scene {
+            spheres,
+            materials,
+            tree: Tree::None,
+            direct_count: 0,
+            accel: Accel::Flat,
+            intersection: Intersection::Robust,
+            background,
+            camera,
+        };
+        scene.with_accel(accel)
     }
 
-    /// The same scene traced by testing every sphere (for the ablation table: the same hits
-    /// but for exact ties, only slower for large scenes).
-    pub fn without_bvh(mut self) -> Scene {
-        self.bvh = None;
+    /// The same scene with another way of finding hits (for comparisons). Rebuilding may
+    /// reorder the spheres; [`Accel::Flat`] keeps their order, so it finds exactly what the
+    /// scene's hierarchy finds, ties included.
+    pub fn with_accel(mut self, accel: Accel) -> Scene {
+        let mut direct = match accel {
+            Accel::Flat => self.spheres.len(),
+            Accel::WideHugeApart => move_huge_first(&mut self.spheres),
+            Accel::Binary | Accel::Wide | Accel::WidePackets => 0,
+        };
+        let rest = &mut self.spheres[direct..];
+        self.tree = match accel {
+            _ if rest.is_empty() => Tree::None,
+            Accel::Flat => Tree::None,
+            Accel::Binary => Tree::Binary(Bvh::build(rest)),
+            Accel::Wide | Accel::WidePackets | Accel::WideHugeApart => {
+                let binary = Bvh::build_with_leaves(rest, WIDE_LEAF);
+                Tree::Wide(WideBvh::collapse(&binary, rest, direct))
+            }
+        };
+        if matches!(self.tree, Tree::None) {
+            direct = self.spheres.len();
+        }
+        self.direct_count = direct;
+        self.accel = accel;
         self
+    }
+
+    /// The same scene traced by testing every sphere (for the ablation table and the
+    /// exactness tests: the same hits, only slower for large scenes).
+    pub fn without_bvh(self) -> Scene {
+        self.with_accel(Accel::Flat)
     }
 
     /// The same scene traced with another intersection method (for comparisons).
@@ -72,48 +155,81 @@ impl Scene {
 
     /// Whether intersection goes through a bounding volume hierarchy.
     pub fn has_bvh(&self) -> bool {
-        self.bvh.is_some()
+        !matches!(self.tree, Tree::None)
+    }
+
+    /// How hits are found.
+    pub fn accel(&self) -> Accel {
+        self.accel
+    }
+
+    /// How many spheres are tested directly, outside any hierarchy (all of them for a flat
+    /// scene; the huge ones for the default hierarchy).
+    pub fn direct_count(&self) -> usize {
+        self.direct_count
     }
 
     /// The closest hit along `ray` closer than `t_max`.
     ///
-    /// One branch per ray picks the method; each arm is its own monomorphised traversal, so
-    /// the robust default pays nothing for the textbook alternative.
+    /// One branch per ray picks the method: the robust test (the renderer's) or the book's
+    /// (for comparisons only), each one sphere at a time unless [`Accel::WidePackets`] asks
+    /// for four at once.
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real) -> Option<Hit> {
+        let mut closest = Closest::none(t_max);
         match self.intersection {
             Intersection::Robust => {
-                let (index, t) = self.closest(ray, t_max, Sphere::intersect)?;
+                self.direct_each(ray, &mut closest, Sphere::intersect);
+                match &self.tree {
+                    Tree::Wide(wide) if self.accel == Accel::WidePackets => wide.intersect(ray, &mut closest),
+                    tree => self.tree_each(tree, ray, &mut closest, Sphere::intersect),
+                }
+                let (index, t) = closest.found()?;
                 Some(self.spheres[index].hit_at(ray, t))
             }
             Intersection::Textbook => {
-                let (index, t) = self.closest(ray, t_max, Sphere::intersect_textbook)?;
+                self.direct_each(ray, &mut closest, Sphere::intersect_textbook);
+                self.tree_each(&self.tree, ray, &mut closest, Sphere::intersect_textbook);
+                let (index, t) = closest.found()?;
                 Some(self.spheres[index].hit_at_textbook(ray, t))
             }
         }
     }
 
-    /// The closest sphere `test` finds: through the hierarchy, or for a handful of spheres
-    /// (the fastest way then) by testing every one.
+    /// Offers the hits of the spheres tested directly (all of a flat scene's, the huge ones
+    /// with [`Accel::WideHugeApart`]) to `closest`.
     #[inline]
-    fn closest(
+    fn direct_each(
         &self,
         ray: &Ray,
-        t_max: Real,
+        closest: &mut Closest,
         test: impl Fn(&Sphere, &Ray, Real) -> Option<Real>,
-    ) -> Option<(usize, Real)> {
-        if let Some(bvh) = &self.bvh {
-            return bvh.hit(&self.spheres, ray, t_max, test);
-        }
-        let mut closest = t_max;
-        let mut found = None;
-        for (i, sphere) in self.spheres.iter().enumerate() {
-            if let Some(t) = test(sphere, ray, closest) {
-                closest = t;
-                found = Some(i);
+    ) {
+        for (i, sphere) in self.spheres[..self.direct_count].iter().enumerate() {
+            if let Some(t) = test(sphere, ray, closest.bound()) {
+                closest.offer(t, i as u32);
             }
         }
-        found.map(|i| (i, closest))
+    }
+
+    /// The tree's closest hit by `test`, one sphere at a time, offered to `closest`.
+    fn tree_each(
+        &self,
+        tree: &Tree,
+        ray: &Ray,
+        closest: &mut Closest,
+        test: impl Fn(&Sphere, &Ray, Real) -> Option<Real>,
+    ) {
+        match tree {
+            Tree::None => {}
+            Tree::Wide(wide) => wide.intersect_each(&self.spheres, ray, closest, test),
+            Tree::Binary(bvh) => {
+                if let Some((i, t)) = bvh.hit(&self.spheres[self.direct_count..], ray, closest.bound(), test)
+                {
+                    closest.offer(t, (self.direct_count + i) as u32);
+                }
+            }
+        }
     }
 
     /// The material of a hit.
@@ -121,4 +237,49 @@ impl Scene {
     pub fn material(&self, hit: &Hit) -> &Material {
         &self.materials[hit.material as usize]
     }
+}
+
+/// Moves the huge spheres (at most [`MAX_HUGE`], the largest first) to the front of
+/// `spheres`; returns how many there are.
+fn move_huge_first(spheres: &mut [Sphere]) -> usize {
+    let half_area = |lo: [Real; 3], hi: [Real; 3]| {
+        let d = [0, 1, 2].map(|a| (hi[a] - lo[a]).max(0.0));
+        d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
+    };
+    let extent = |s: &Sphere| {
+        let r = s.radius.abs();
+        ([0, 1, 2].map(|a| s.center[a] - r), [0, 1, 2].map(|a| s.center[a] + r))
+    };
+    let (mut lo, mut hi) = ([Real::INFINITY; 3], [Real::NEG_INFINITY; 3]);
+    for s in spheres.iter() {
+        let (l, h) = extent(s);
+        for a in 0..3 {
+            lo[a] = lo[a].min(l[a]);
+            hi[a] = hi[a].max(h[a]);
+        }
+    }
+    let whole = half_area(lo, hi);
+    let mut order: Vec<usize> = (0..spheres.len()).collect();
+    order.sort_by(|&a, &b| spheres[b].radius.abs().total_cmp(&spheres[a].radius.abs()));
+    let mut count = 0;
+    for &i in order.iter().take(MAX_HUGE) {
+        let (l, h) = extent(&spheres[i]);
+        if half_area(l, h) < HUGE_FRACTION * whole {
+            break;
+        }
+        count += 1;
+    }
+    // Stable: the huge spheres first in their original order, then the rest in theirs.
+    let mut huge: Vec<usize> = order[..count].to_vec();
+    huge.sort_unstable();
+    let (front, back): (Vec<Sphere>, Vec<Sphere>) = {
+        let is_huge = |i: &usize| huge.binary_search(i).is_ok();
+        let front = (0..spheres.len()).filter(is_huge).map(|i| spheres[i]).collect();
+        let back = (0..spheres.len()).filter(|i| !is_huge(i)).map(|i| spheres[i]).collect();
+        (front, back)
+    };
+    for (slot, sphere) in spheres.iter_mut().zip(front.into_iter().chain(back)) {
+        *slot = sphere;
+    }
+    count
 }
