@@ -205,9 +205,11 @@ impl Scene {
         closest: &mut Closest,
         test: impl Fn(&Sphere, &Ray, Real) -> Option<Real>,
     ) {
+        // In index order with a strict bound, the first sphere at a distance keeps it: ties
+        // already go to the lower index, with no tie test (this is the loop of small scenes).
         for (i, sphere) in self.spheres[..self.direct_count].iter().enumerate() {
-            if let Some(t) = test(sphere, ray, closest.bound()) {
-                closest.offer(t, i as u32);
+            if let Some(t) = test(sphere, ray, closest.t) {
+                (closest.t, closest.index) = (t, i as u32);
             }
         }
     }
