@@ -19,6 +19,7 @@ use crate::schedule::modes::{Schedule, render};
 use crate::tracer::real::Real;
 use crate::tracer::render::{Adaptive, MAX_SIDE, RenderJob, RenderSettings, default_height};
 use crate::tracer::sampler::{PerSample, SharedRng};
+use crate::tracer::scene::{Accel, Scene};
 
 /// raypool: the book's ray tracer on hand-written thread pools.
 #[derive(Debug, Parser)]
@@ -129,9 +130,45 @@ pub struct RenderArgs {
     /// shared by all threads, as the seed paper's rand() (an ablation; not reproducible).
     #[arg(long, value_enum, default_value_t = RngChoice::PerSample)]
     pub rng: RngChoice,
+    /// How rays find the closest sphere: auto (every sphere below 6, the binary tree below
+    /// 64, else the 4-wide tree), or one method for comparisons; all find the same hits.
+    #[arg(long, value_enum, default_value_t = AccelChoice::Auto)]
+    pub accel: AccelChoice,
     /// Output image; the extension picks the format: .png, .ppm (P6) or .pfm (linear float).
     #[arg(long, default_value = "render.png")]
     pub out: PathBuf,
+}
+
+/// The `--accel` choices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum AccelChoice {
+    /// The scene's default: every sphere below 6 spheres, the binary tree below 64, else
+    /// the 4-wide tree.
+    Auto,
+    /// Every sphere tested.
+    Flat,
+    /// The binary SAH tree.
+    Binary,
+    /// The 4-wide tree, leaves tested one sphere at a time.
+    Wide,
+    /// The 4-wide tree, leaves tested four spheres at once in SIMD lanes.
+    WidePackets,
+    /// The 4-wide tree, huge spheres (a ground) kept out of it and tested first.
+    WideHugeApart,
+}
+
+impl AccelChoice {
+    /// The scene with this method applied.
+    fn apply(self, scene: Scene) -> Scene {
+        match self {
+            AccelChoice::Auto => scene,
+            AccelChoice::Flat => scene.with_accel(Accel::Flat),
+            AccelChoice::Binary => scene.with_accel(Accel::Binary),
+            AccelChoice::Wide => scene.with_accel(Accel::Wide),
+            AccelChoice::WidePackets => scene.with_accel(Accel::WidePackets),
+            AccelChoice::WideHugeApart => scene.with_accel(Accel::WideHugeApart),
+        }
+    }
 }
 
 /// The `--rng` choices.
@@ -228,8 +265,13 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
         let bar = bar.clone();
         Arc::new(move |n| bar.inc(n))
     };
-    let frame =
-        Arc::new(Frame::new(RenderJob::new(scene.to_scene(), settings), rng, threads, args.tile, progress));
+    let frame = Arc::new(Frame::new(
+        RenderJob::new(args.accel.apply(scene.to_scene()), settings),
+        rng,
+        threads,
+        args.tile,
+        progress,
+    ));
 
     let start = Instant::now();
     let rendered = render(&frame, &args.mode);

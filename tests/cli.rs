@@ -167,6 +167,21 @@ fn bad_scene_files_exit_2_with_location() {
 }
 
 #[test]
+fn every_accel_gives_the_same_bytes() {
+    let dir = scratch("accel");
+    let mut files = Vec::new();
+    for accel in ["auto", "flat", "binary", "wide", "wide-packets", "wide-huge-apart"] {
+        let name = format!("{accel}.pfm");
+        let out = render(&dir, &["--scene", "paper3", "--accel", accel, "--out", &name]);
+        assert!(out.status.success(), "{accel}: {}", String::from_utf8_lossy(&out.stderr));
+        files.push((accel, std::fs::read(dir.join(&name)).unwrap()));
+    }
+    for (accel, bytes) in &files[1..] {
+        assert!(*bytes == files[0].1, "--accel {accel} changed the image");
+    }
+}
+
+#[test]
 fn oversized_and_endless_scene_files_are_refused_without_reading_them_whole() {
     let dir = scratch("big-scenes");
     let limit = raypool::scenes::format::MAX_SCENE_FILE_BYTES;

@@ -38,25 +38,31 @@ pub struct Closest {
     pub t: Real,
     /// Index of the sphere hit, `u32::MAX` while none is.
     pub index: u32,
+    /// The bound for sphere tests: `t` while nothing is found, else the next number above
+    /// `t`, so that a tie is reported and [`Closest::offer`] can decide it. Kept, not
+    /// computed per test: it changes only when a hit is kept, which is rare.
+    bound: Real,
 }
 
 impl Closest {
     /// Nothing found yet, searching up to `t_max` (exclusive).
     pub fn none(t_max: Real) -> Closest {
-        Closest { t: t_max, index: u32::MAX }
+        Closest { t: t_max, index: u32::MAX, bound: t_max }
     }
 
     /// The bound a sphere test must use so that a hit at exactly `t` (a tie) is reported.
     #[inline]
     pub fn bound(&self) -> Real {
-        if self.index == u32::MAX { self.t } else { self.t.next_up() }
+        self.bound
     }
 
     /// Keeps the hit `(t, index)` if it is closer, or as close with a lower index.
     #[inline]
     pub fn offer(&mut self, t: Real, index: u32) {
         if t < self.t || (t == self.t && index < self.index) {
-            (self.t, self.index) = (t, index);
+            // A hit distance is positive and finite, so the next number above it is one bit
+            // pattern up (cheaper than the general `next_up`, which this is on the hot path).
+            *self = Closest { t, index, bound: Real::from_bits(t.to_bits() + 1) };
         }
     }
 

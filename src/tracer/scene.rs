@@ -18,6 +18,11 @@ use crate::tracer::wide::WideBvh;
 /// saves there (`results/perf.md`).
 pub const BVH_MIN_SPHERES: usize = 6;
 
+/// Scenes with fewer spheres than this (but at least [`BVH_MIN_SPHERES`]) use the binary
+/// tree: measured with `--accel`, the four-wide one is 3% slower on paper2 (7 spheres) and
+/// 1% on paper3 (21), and 9% faster on `final` (486) (`results/perf.md`).
+pub const WIDE_MIN_SPHERES: usize = 64;
+
 /// A sphere whose box has at least this fraction of the half-area of the box around every
 /// sphere is "huge" (the ground of `final`, radius 1000): nearly every ray enters its box,
 /// so it is tested directly, before the hierarchy, instead of from inside it.
@@ -34,10 +39,11 @@ const WIDE_LEAF: usize = 4;
 pub enum Accel {
     /// Test every sphere, one by one.
     Flat,
-    /// The binary SAH tree of `bvh.rs` (the default before the four-wide tree).
+    /// The binary SAH tree of `bvh.rs`: the default from [`BVH_MIN_SPHERES`] to
+    /// [`WIDE_MIN_SPHERES`] spheres.
     Binary,
     /// The four-wide tree of `wide.rs`, leaves of up to four spheres tested one by one: the
-    /// default for scenes of [`BVH_MIN_SPHERES`] or more.
+    /// default for scenes of [`WIDE_MIN_SPHERES`] or more.
     Wide,
     /// The four-wide tree, each leaf's spheres tested together in the lanes of one SIMD
     /// register (`packet.rs`).
@@ -76,7 +82,8 @@ pub struct Scene {
 
 impl Scene {
     /// A scene of these spheres (each `material` indexing `materials`). Scenes of
-    /// [`BVH_MIN_SPHERES`] or more get the four-wide hierarchy, which reorders the spheres.
+    /// [`BVH_MIN_SPHERES`] or more get a hierarchy (binary, then four-wide from
+    /// [`WIDE_MIN_SPHERES`]), which reorders the spheres.
     ///
     /// # Panics
     /// If a sphere's material index is out of range.
@@ -90,7 +97,11 @@ impl Scene {
             spheres.iter().all(|s| (s.material as usize) < materials.len()),
             "material index out of range"
         );
-        let accel = if spheres.len() >= BVH_MIN_SPHERES { Accel::Wide } else { Accel::Flat };
+        let accel = match spheres.len() {
+            n if n < BVH_MIN_SPHERES => Accel::Flat,
+            n if n < WIDE_MIN_SPHERES => Accel::Binary,
+            _ => Accel::Wide,
+        };
         let scene = Scene {
             spheres,
             materials,
@@ -173,58 +184,52 @@ impl Scene {
     ///
     /// One branch per ray picks the method: the robust test (the renderer's) or the book's
     /// (for comparisons only), each one sphere at a time unless [`Accel::WidePackets`] asks
-    /// for four at once.
+    /// for four at once (robust test only).
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real) -> Option<Hit> {
-        let mut closest = Closest::none(t_max);
         match self.intersection {
             Intersection::Robust => {
-                self.direct_each(ray, &mut closest, Sphere::intersect);
-                match &self.tree {
-                    Tree::Wide(wide) if self.accel == Accel::WidePackets => wide.intersect(ray, &mut closest),
-                    tree => self.tree_each(tree, ray, &mut closest, Sphere::intersect),
-                }
-                let (index, t) = closest.found()?;
+                let (index, t) = self.closest(ray, t_max, Sphere::intersect)?;
                 Some(self.spheres[index].hit_at(ray, t))
             }
             Intersection::Textbook => {
-                self.direct_each(ray, &mut closest, Sphere::intersect_textbook);
-                self.tree_each(&self.tree, ray, &mut closest, Sphere::intersect_textbook);
-                let (index, t) = closest.found()?;
+                let (index, t) = self.closest(ray, t_max, Sphere::intersect_textbook)?;
                 Some(self.spheres[index].hit_at_textbook(ray, t))
             }
         }
     }
 
-    /// Offers the hits of the spheres tested directly (all of a flat scene's, the huge ones
-    /// with [`Accel::WideHugeApart`]) to `closest`.
+    /// The closest sphere `test` finds, as `(index, t)`: first the spheres tested directly
+    /// (all of a flat scene's, the huge ones with [`Accel::WideHugeApart`]), then the tree.
     #[inline]
-    fn direct_each(
+    fn closest(
         &self,
         ray: &Ray,
-        closest: &mut Closest,
+        t_max: Real,
         test: impl Fn(&Sphere, &Ray, Real) -> Option<Real>,
-    ) {
-        // In index order with a strict bound, the first sphere at a distance keeps it: ties
+    ) -> Option<(usize, Real)> {
+        // In index order with a strict bound the first sphere at a distance keeps it: ties
         // already go to the lower index, with no tie test (this is the loop of small scenes).
+        let (mut nearest, mut found) = (t_max, None);
         for (i, sphere) in self.spheres[..self.direct_count].iter().enumerate() {
-            if let Some(t) = test(sphere, ray, closest.t) {
-                (closest.t, closest.index) = (t, i as u32);
+            if let Some(t) = test(sphere, ray, nearest) {
+                (nearest, found) = (t, Some(i));
             }
         }
-    }
-
-    /// The tree's closest hit by `test`, one sphere at a time, offered to `closest`.
-    fn tree_each(
-        &self,
-        tree: &Tree,
-        ray: &Ray,
-        closest: &mut Closest,
-        test: impl Fn(&Sphere, &Ray, Real) -> Option<Real>,
-    ) {
-        match tree {
+        let mut closest = Closest::none(t_max);
+        match (&self.tree, found) {
+            (Tree::None, _) => return found.map(|i| (i, nearest)),
+            (_, Some(i)) => closest.offer(nearest, i as u32),
+            (_, None) => {}
+        }
+        match &self.tree {
             Tree::None => {}
-            Tree::Wide(wide) => wide.intersect_each(&self.spheres, ray, closest, test),
+            Tree::Wide(wide)
+                if self.accel == Accel::WidePackets && self.intersection == Intersection::Robust =>
+            {
+                wide.intersect(ray, &mut closest)
+            }
+            Tree::Wide(wide) => wide.intersect_each(&self.spheres, ray, &mut closest, test),
             Tree::Binary(bvh) => {
                 if let Some((i, t)) = bvh.hit(&self.spheres[self.direct_count..], ray, closest.bound(), test)
                 {
@@ -232,6 +237,7 @@ impl Scene {
                 }
             }
         }
+        closest.found()
     }
 
     /// The material of a hit.
