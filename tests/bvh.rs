@@ -251,3 +251,17 @@ fn every_accel_renders_final_at_600_by_400_to_the_same_bytes() {
         assert!(pixels == reference.0, "{accel:?}: a different image");
     }
 }
+
+#[test]
+fn each_scene_gets_the_method_its_size_calls_for() {
+    let accel = |name: &str| builtin_scene(name, DEFAULT_SCENE_SEED).unwrap().to_scene().accel();
+    assert_eq!(accel("paper1"), Accel::Flat, "4 spheres");
+    assert_eq!(accel("paper2"), Accel::Binary, "7 spheres");
+    assert_eq!(accel("paper3"), Accel::Binary, "21 spheres");
+    assert_eq!(accel("final"), Accel::Wide, "486 spheres");
+    let scene = builtin_scene("final", DEFAULT_SCENE_SEED).unwrap().to_scene();
+    let apart = scene.clone().with_accel(Accel::WideHugeApart);
+    assert_eq!(apart.direct_count(), 1, "only the ground is huge");
+    assert_eq!(apart.spheres()[0].radius, 1000.0, "and it is tested first");
+    assert_eq!(scene.clone().without_bvh().direct_count(), scene.spheres().len());
+}

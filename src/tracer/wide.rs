@@ -89,11 +89,6 @@ impl WideBvh {
         wide
     }
 
-    /// Number of inner nodes and of leaf packets (for tests and statistics).
-    pub fn size(&self) -> (usize, usize) {
-        (self.nodes.len(), self.packets.len())
-    }
-
     /// The wide child for binary node `at`: a packet for a leaf, a collapsed node otherwise.
     fn child(&mut self, binary: &Bvh, spheres: &[Sphere], first: usize, at: usize) -> u32 {
         if let Some(range) = binary.leaf(at) {
