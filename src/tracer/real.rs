@@ -41,3 +41,15 @@ pub fn to_f32(x: Real) -> f32 {
 pub fn to_f64(x: Real) -> f64 {
     x as f64
 }
+
+/// `v` in f64 (exact in both builds).
+#[allow(clippy::unnecessary_cast)]
+pub fn to_dvec3(v: Vec3) -> glam::DVec3 {
+    glam::DVec3::new(v.x as f64, v.y as f64, v.z as f64)
+}
+
+/// `v` rounded to [`Vec3`] (a no-op with the `f64` feature).
+#[allow(clippy::unnecessary_cast)]
+pub fn from_dvec3(v: glam::DVec3) -> Vec3 {
+    Vec3::new(v.x as Real, v.y as Real, v.z as Real)
+}
