@@ -2,9 +2,10 @@
 //! all y, …), so one pass of the stable ray–sphere test runs in the four lanes of a SIMD
 //! register.
 //!
-//! The lanes are plain `[Real; 4]` arrays written as loops over the lanes; the compiler turns
-//! each loop into one SSE instruction on any x86-64 (`subps`, `mulps`, `sqrtps`, `divps`…, see
-//! `results/perf.md`), with no `unsafe` and no CPU-specific build. Every lane performs exactly
+//! The lanes are plain `[Real; 4]` arrays written as loops over the lanes, which the compiler
+//! vectorises for baseline x86-64 SSE (`Scene::hit` in the release binary holds `sqrtps` and
+//! `divps`: `objdump -d target/release/raypool`), with no `unsafe` and no CPU-specific build;
+//! elsewhere the same loops compile to that CPU's vector or scalar code. Every lane performs exactly
 //! the operations of [`Sphere::intersect`], in the same order, so a packet finds bit for bit
 //! the distances that testing the spheres one by one finds (`tests/bvh.rs`).
 //!
