@@ -9,13 +9,13 @@ use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Schedule, render};
 use raypool::tracer::bvh::Bvh;
-use raypool::tracer::packet::{Closest, Packet};
+use raypool::tracer::packet::Packet;
 use raypool::tracer::ray::Ray;
 use raypool::tracer::real::{Real, Vec3};
 use raypool::tracer::render::{RenderJob, RenderSettings};
 use raypool::tracer::sampler::PerSample;
 use raypool::tracer::scene::Accel;
-use raypool::tracer::sphere::Sphere;
+use raypool::tracer::sphere::{Closest, Sphere};
 use raypool::tracer::wide::WideBvh;
 
 fn brute_force(spheres: &[Sphere], ray: &Ray) -> Option<(usize, Real)> {

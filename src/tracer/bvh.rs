@@ -19,10 +19,9 @@
 //! (`tests/bvh.rs` compares whole images). The renderer traverses the four-wide tree that
 //! `wide.rs` collapses from this one; the binary traversal stays for comparison.
 
-use crate::tracer::packet::Closest;
 use crate::tracer::ray::Ray;
 use crate::tracer::real::{Real, Vec3};
-use crate::tracer::sphere::Sphere;
+use crate::tracer::sphere::{Closest, Sphere};
 
 /// Leaves hold at most this many spheres when splitting stops paying off.
 const MAX_LEAF: usize = 4;
@@ -82,6 +81,12 @@ impl Aabb {
         let far = if far < t_max { far } else { t_max };
         near <= far
     }
+}
+
+/// Half the surface area of the box around `spheres` (boxes padded as the tree pads them):
+/// how likely a ray is to enter it. The scene uses it to find huge spheres.
+pub(crate) fn half_area_around(spheres: &[Sphere]) -> Real {
+    spheres.iter().map(Aabb::of_sphere).fold(Aabb::EMPTY, Aabb::union).half_area()
 }
 
 /// One node of the flattened tree.
@@ -283,8 +288,9 @@ fn choose_split(spheres: &mut [Sphere], bounds: &Aabb, leaf: usize) -> Option<(u
     // Relative to testing all n spheres in a leaf, with a box test costing about one sphere.
     let split_cost = 1.0 + best.0 / bounds.half_area().max(Real::MIN_POSITIVE);
     // Up to `leaf` spheres stay together unless splitting more than halves the expected
-    // work: paper2's ground (radius 10⁴) grouped with three small spheres made every ray
-    // that enters the ground's box test all four (measured 0.88× the speed, `results/perf.md`).
+    // work: in the four-wide tree, paper2's ground (radius 10⁴) grouped with three small
+    // spheres made every ray that enters the ground's box test all four (measured 0.88× the
+    // speed, `results/perf.md`).
     // Up to MAX_LEAF, they stay together unless splitting saves anything.
     let leaf_cost = if n <= leaf { 0.5 * n as Real } else { n as Real };
     if best.0.is_infinite() || (split_cost >= leaf_cost && n <= MAX_LEAF) {

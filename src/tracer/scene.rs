@@ -5,13 +5,12 @@
 //! reference between render threads.
 
 use crate::tracer::background::Background;
-use crate::tracer::bvh::Bvh;
+use crate::tracer::bvh::{Bvh, half_area_around};
 use crate::tracer::camera::CameraSettings;
 use crate::tracer::material::Material;
-use crate::tracer::packet::Closest;
 use crate::tracer::ray::Ray;
 use crate::tracer::real::Real;
-use crate::tracer::sphere::{Hit, Intersection, Sphere};
+use crate::tracer::sphere::{Closest, Hit, Intersection, Sphere};
 use crate::tracer::wide::WideBvh;
 
 /// Scenes with fewer spheres than this test every sphere: a hierarchy costs more than it
@@ -217,14 +216,17 @@ impl Scene {
                 (nearest, found) = (t, Some(i));
             }
         }
+        if let Tree::None = self.tree {
+            return found.map(|i| (i, nearest));
+        }
+        // Then the tree, whose visiting order is not the index order: ties are decided by
+        // `Closest`.
         let mut closest = Closest::none(t_max);
-        match (&self.tree, found) {
-            (Tree::None, _) => return found.map(|i| (i, nearest)),
-            (_, Some(i)) => closest.offer(nearest, i as u32),
-            (_, None) => {}
+        if let Some(i) = found {
+            closest.offer(nearest, i as u32);
         }
         match &self.tree {
-            Tree::None => {}
+            Tree::None => {} // returned above
             Tree::Wide(wide)
                 if self.accel == Accel::WidePackets && self.intersection == Intersection::Robust =>
             {
@@ -249,45 +251,24 @@ impl Scene {
 }
 
 /// Moves the huge spheres (at most [`MAX_HUGE`], the largest first) to the front of
-/// `spheres`; returns how many there are.
+/// `spheres`, each group keeping its order; returns how many there are.
 fn move_huge_first(spheres: &mut [Sphere]) -> usize {
-    let half_area = |lo: [Real; 3], hi: [Real; 3]| {
-        let d = [0, 1, 2].map(|a| (hi[a] - lo[a]).max(0.0));
-        d[0] * d[1] + d[1] * d[2] + d[2] * d[0]
-    };
-    let extent = |s: &Sphere| {
-        let r = s.radius.abs();
-        ([0, 1, 2].map(|a| s.center[a] - r), [0, 1, 2].map(|a| s.center[a] + r))
-    };
-    let (mut lo, mut hi) = ([Real::INFINITY; 3], [Real::NEG_INFINITY; 3]);
-    for s in spheres.iter() {
-        let (l, h) = extent(s);
-        for a in 0..3 {
-            lo[a] = lo[a].min(l[a]);
-            hi[a] = hi[a].max(h[a]);
-        }
+    let whole = half_area_around(spheres);
+    let mut by_size: Vec<usize> = (0..spheres.len()).collect();
+    by_size.sort_by(|&a, &b| spheres[b].radius.abs().total_cmp(&spheres[a].radius.abs()));
+    let count = by_size
+        .iter()
+        .take(MAX_HUGE)
+        .take_while(|&&i| half_area_around(&spheres[i..=i]) >= HUGE_FRACTION * whole)
+        .count();
+    let mut huge = vec![false; spheres.len()];
+    for &i in &by_size[..count] {
+        huge[i] = true;
     }
-    let whole = half_area(lo, hi);
-    let mut order: Vec<usize> = (0..spheres.len()).collect();
-    order.sort_by(|&a, &b| spheres[b].radius.abs().total_cmp(&spheres[a].radius.abs()));
-    let mut count = 0;
-    for &i in order.iter().take(MAX_HUGE) {
-        let (l, h) = extent(&spheres[i]);
-        if half_area(l, h) < HUGE_FRACTION * whole {
-            break;
-        }
-        count += 1;
-    }
-    // Stable: the huge spheres first in their original order, then the rest in theirs.
-    let mut huge: Vec<usize> = order[..count].to_vec();
-    huge.sort_unstable();
-    let (front, back): (Vec<Sphere>, Vec<Sphere>) = {
-        let is_huge = |i: &usize| huge.binary_search(i).is_ok();
-        let front = (0..spheres.len()).filter(is_huge).map(|i| spheres[i]).collect();
-        let back = (0..spheres.len()).filter(|i| !is_huge(i)).map(|i| spheres[i]).collect();
-        (front, back)
-    };
-    for (slot, sphere) in spheres.iter_mut().zip(front.into_iter().chain(back)) {
+    // A stable sort on "not huge" puts the huge first and keeps both groups' order.
+    let mut tagged: Vec<(bool, Sphere)> = spheres.iter().zip(huge).map(|(s, h)| (!h, *s)).collect();
+    tagged.sort_by_key(|&(not_huge, _)| not_huge);
+    for (slot, (_, sphere)) in spheres.iter_mut().zip(tagged) {
         *slot = sphere;
     }
     count

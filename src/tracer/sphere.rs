@@ -63,6 +63,48 @@ pub struct Hit {
     pub offset: Real,
 }
 
+/// The closest hit found so far: distance and sphere index. Ties in distance go to the
+/// lower index, so the answer does not depend on the order in which spheres are tested.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Closest {
+    /// Distance of the best hit (the search bound while none is found).
+    pub t: Real,
+    /// Index of the sphere hit, `u32::MAX` while none is.
+    pub index: u32,
+    /// The bound for sphere tests: `t` while nothing is found, else the next number above
+    /// `t`, so that a tie is reported and [`Closest::offer`] can decide it. Kept, not
+    /// computed per test: it changes only when a hit is kept, which is rare.
+    bound: Real,
+}
+
+impl Closest {
+    /// Nothing found yet, searching up to `t_max` (exclusive).
+    pub fn none(t_max: Real) -> Closest {
+        Closest { t: t_max, index: u32::MAX, bound: t_max }
+    }
+
+    /// The bound a sphere test must use so that a hit at exactly `t` (a tie) is reported.
+    #[inline]
+    pub fn bound(&self) -> Real {
+        self.bound
+    }
+
+    /// Keeps the hit `(t, index)` if it is closer, or as close with a lower index.
+    #[inline]
+    pub fn offer(&mut self, t: Real, index: u32) {
+        if t < self.t || (t == self.t && index < self.index) {
+            // A hit distance is positive and finite, so the next number above it is one bit
+            // pattern up (cheaper than the general `next_up`, which this is on the hot path).
+            *self = Closest { t, index, bound: Real::from_bits(t.to_bits() + 1) };
+        }
+    }
+
+    /// `(index, t)` of the hit, if any.
+    pub fn found(&self) -> Option<(usize, Real)> {
+        (self.index != u32::MAX).then_some((self.index as usize, self.t))
+    }
+}
+
 impl Sphere {
     /// Distance to the nearest intersection in `(0, t_max)`, if any.
     ///

@@ -23,10 +23,10 @@
 use arrayvec::ArrayVec;
 
 use crate::tracer::bvh::Bvh;
-use crate::tracer::packet::{Closest, LANES, Packet};
+use crate::tracer::packet::{LANES, Packet};
 use crate::tracer::ray::Ray;
 use crate::tracer::real::Real;
-use crate::tracer::sphere::Sphere;
+use crate::tracer::sphere::{Closest, Sphere};
 
 /// Children per node.
 pub const WIDTH: usize = 4;
@@ -65,7 +65,7 @@ impl WideBvh {
     /// array on), into a four-wide hierarchy.
     ///
     /// ```
-    /// use raypool::tracer::{bvh::Bvh, wide::WideBvh, packet::Closest, ray::Ray, real::Vec3, sphere::Sphere};
+    /// use raypool::tracer::{bvh::Bvh, wide::WideBvh, ray::Ray, real::Vec3, sphere::{Closest, Sphere}};
     /// let mut balls: Vec<Sphere> = (0..50)
     ///     .map(|k| Sphere { center: Vec3::new(k as f32 * 3.0, 0.0, -10.0), radius: 1.0, material: 0 })
     ///     .collect();
