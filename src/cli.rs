@@ -1,4 +1,4 @@
-//! The command line: `raypool render | scenes | scene`. Every failure is an [`Error`] that
+//! The command line: `raypool render | merge | scenes | scene | bench | compare`. Every failure is an [`Error`] that
 //! `main` prints on one line before exiting with code 2.
 
 use std::io::IsTerminal;
@@ -10,7 +10,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use crate::error::Error;
-use crate::files::output::PendingOutput;
+use crate::files::output::{Format, PendingOutput};
+use crate::files::part::{Part, PartSettings, merge, scene_digest};
 use crate::measure::speedup::{Preset, write_reports};
 use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::scenes::format::SceneFile;
@@ -20,6 +21,7 @@ use crate::tracer::real::Real;
 use crate::tracer::render::{Adaptive, MAX_SIDE, RenderJob, RenderSettings, default_height};
 use crate::tracer::sampler::{PerSample, SharedRng};
 use crate::tracer::scene::{Accel, Scene};
+use crate::tracer::tile::{Shard, Tile};
 
 /// raypool: the book's ray tracer on hand-written thread pools.
 #[derive(Debug, Parser)]
@@ -33,8 +35,17 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Render a scene to an image (.png, .ppm or .pfm).
+    /// Render a scene to an image (.png, .ppm or .pfm), or one shard of it (.rpart).
     Render(RenderArgs),
+    /// Merge the part files of a sharded render (`render --shard K/N`) into the image.
+    Merge {
+        /// Every part, shards 0 to N-1, in any order.
+        #[arg(required = true, value_name = "PART")]
+        parts: Vec<PathBuf>,
+        /// The image (.png, .ppm or .pfm), written only if the parts are complete and agree.
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+    },
     /// List the built-in scenes.
     Scenes,
     /// Measure every mode at 1…2×CPUs threads on the benchmark scenes; write tables and plots.
@@ -134,7 +145,12 @@ pub struct RenderArgs {
     /// 64, else the 4-wide tree), or one method for comparisons; all find the same hits.
     #[arg(long, value_enum, default_value_t = AccelChoice::Auto)]
     pub accel: AccelChoice,
-    /// Output image; the extension picks the format: .png, .ppm (P6) or .pfm (linear float).
+    /// Render only shard K of N: the tiles (of --tile) whose row-major index is K mod N,
+    /// into a part file (--out NAME.rpart) for `raypool merge`.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
+    /// Output; the extension picks the format: .png, .ppm (P6), .pfm (linear float), or
+    /// .rpart (a part file of --shard, or of the whole image without it).
     #[arg(long, default_value = "render.png")]
     pub out: PathBuf,
 }
@@ -187,6 +203,7 @@ const QUICK_PAPER_SPP: u32 = 2;
 pub fn run(cli: Cli) -> Result<(), Error> {
     match cli.command {
         Command::Render(args) => render_command(&args),
+        Command::Merge { parts, out } => merge_command(&parts, &out),
         Command::Scenes => {
             for b in BUILTINS {
                 println!("{:<14} {}", b.name, b.about);
@@ -256,36 +273,49 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
     let settings = render_settings(args, height)?;
     let threads = args.threads.map_or_else(default_threads, |t| t as usize);
     let output = PendingOutput::create(&args.out)?; // fail fast, before the long part
+    let shard = check_shard(args, output.format())?;
     let rng = match args.rng {
         RngChoice::PerSample => RngSource::PerSample(PerSample { seed: settings.seed }),
         RngChoice::Shared => RngSource::Shared(Arc::new(SharedRng::new(settings.seed))),
     };
-    let bar = progress_bar(settings.width as u64 * settings.height as u64);
+    let pixels =
+        shard.tiles(&Tile::grid(settings.width, settings.height, args.tile)).iter().map(Tile::area).sum();
+    let bar = progress_bar(pixels as u64);
     let progress = {
         let bar = bar.clone();
         Arc::new(move |n| bar.inc(n))
     };
-    let frame = Arc::new(Frame::new(
-        RenderJob::new(args.accel.apply(scene.to_scene()), settings),
-        rng,
-        threads,
-        args.tile,
-        progress,
-    ));
+    let job = RenderJob::new(args.accel.apply(scene.to_scene()), settings);
+    let frame = Arc::new(Frame::new(job, rng, threads, args.tile, progress).sharded(shard));
 
     let start = Instant::now();
     let rendered = render(&frame, &args.mode);
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
-    output.write(&rendered.image)?;
+    if output.format() == Format::Part {
+        let digest = scene_digest(&scene.to_toml());
+        let mut part = Part::new(
+            PartSettings::new(digest, &settings, args.tile, shard.count),
+            shard,
+            &frame.tiles(),
+            &rendered.image,
+        );
+        (part.header.rays, part.header.samples) = (rendered.rays, rendered.samples);
+        (part.header.seconds, part.header.host) = (seconds, crate::measure::machine::host());
+        output
+            .write_with(|out| std::io::Write::write_all(out, &part.to_bytes()).map_err(|e| e.to_string()))?;
+    } else {
+        output.write(&rendered.image)?;
+    }
 
     let threads_used = if args.mode == Schedule::Serial { 1 } else { threads };
     let mode = args.mode.name();
+    let shard_note = if shard == Shard::WHOLE { String::new() } else { format!(", shard {shard}") };
     eprintln!(
-        "{}x{}, {} spp, depth {}, mode {mode}, threads {threads_used}: {seconds:.3} s, {} rays, {:.2} Mrays/s -> {}",
+        "{}x{}{shard_note}, {} spp, depth {}, mode {mode}, threads {threads_used}: {seconds:.3} s, {} rays, {:.2} Mrays/s -> {}",
         settings.width,
         settings.height,
-        spp_summary(&settings, rendered.samples),
+        spp_summary(&settings, rendered.samples, pixels),
         settings.max_depth,
         rendered.rays,
         rendered.rays as f64 / seconds / 1e6,
@@ -294,12 +324,66 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
     Ok(())
 }
 
+/// The shard to render: `--shard`, which needs a part file, or the whole image.
+fn check_shard(args: &RenderArgs, format: Format) -> Result<Shard, Error> {
+    if format == Format::Part && args.rng == RngChoice::Shared {
+        return Err(Error::new(
+            "--rng shared draws numbers in whatever order threads run, so parts would not merge into one image: use --rng per-sample",
+        ));
+    }
+    match args.shard {
+        Some(shard) if format != Format::Part => Err(Error::new(format!(
+            "--shard {shard} writes a part file: name it NAME.rpart (not '{}')",
+            args.out.display()
+        ))),
+        Some(shard) => Ok(shard),
+        None => Ok(Shard::WHOLE),
+    }
+}
+
+/// `raypool merge`: reads every part, checks they are one image, writes it.
+fn merge_command(paths: &[PathBuf], out: &std::path::Path) -> Result<(), Error> {
+    let output = PendingOutput::create(out)?;
+    if output.format() == Format::Part {
+        return Err(Error::new(format!(
+            "merge writes an image: name it .png, .ppm or .pfm (not '{}')",
+            out.display()
+        )));
+    }
+    let mut parts = Vec::with_capacity(paths.len());
+    for path in paths {
+        let name = path.display().to_string();
+        let bytes = std::fs::read(path)
+            .map_err(|e| Error::new(format!("{name}: cannot read: {}", crate::error::io_reason(&e))))?;
+        let part = Part::from_bytes(&bytes).map_err(|e| Error::new(format!("{name}: {e}")))?;
+        parts.push((name, part));
+    }
+    let image = merge(&parts)?;
+    output.write(&image)?;
+    let headers: Vec<_> = parts.iter().map(|(_, p)| &p.header).collect();
+    let slowest = headers.iter().map(|h| h.seconds).fold(0.0, f64::max);
+    let mut hosts: Vec<&str> = headers.iter().map(|h| h.host.as_str()).collect();
+    hosts.sort_unstable();
+    hosts.dedup();
+    eprintln!(
+        "merged {} parts from {} host(s): {}x{}, {} rays; slowest part {slowest:.3} s, all parts {:.3} s -> {}",
+        parts.len(),
+        hosts.len(),
+        image.width,
+        image.height,
+        headers.iter().map(|h| h.rays).sum::<u64>(),
+        headers.iter().map(|h| h.seconds).sum::<f64>(),
+        out.display()
+    );
+    Ok(())
+}
+
 /// "32" for uniform sampling; "mean 41.3 of 16..1024" for adaptive sampling.
-fn spp_summary(settings: &RenderSettings, samples: u64) -> String {
+fn spp_summary(settings: &RenderSettings, samples: u64, pixels: usize) -> String {
     match settings.adaptive {
         None => settings.spp.to_string(),
         Some(a) => {
-            let mean = samples as f64 / (settings.width as f64 * settings.height as f64);
+            let mean = samples as f64 / pixels.max(1) as f64;
             format!("mean {mean:.1} of {}..{}", a.min_spp, settings.spp)
         }
     }

@@ -5,9 +5,9 @@
 //!
 //! | layer | what it holds |
 //! |---|---|
-//! | [`tracer`] | the book's tracer in the book's order: [`tracer::real`], [`tracer::ray`], [`tracer::sphere`], [`tracer::material`], [`tracer::camera`], [`tracer::background`], [`tracer::packet`], [`tracer::bvh`], [`tracer::wide`], [`tracer::scene`], [`tracer::sampler`], and [`tracer::render`], the one render loop |
+//! | [`tracer`] | the book's tracer in the book's order: [`tracer::real`], [`tracer::ray`], [`tracer::sphere`], [`tracer::material`], [`tracer::camera`], [`tracer::background`], [`tracer::packet`], [`tracer::bvh`], [`tracer::wide`], [`tracer::scene`], [`tracer::sampler`], [`tracer::tile`], and [`tracer::render`], the one render loop |
 //! | [`scenes`] | scenes as data: the TOML [`scenes::format`] and the [`scenes::builtin`] scenes |
-//! | [`files`] | the frame buffer ([`files::image`]) and the PNG/PPM/PFM writers ([`files::output`]) |
+//! | [`files`] | the frame buffer ([`files::image`]), the PNG/PPM/PFM writers ([`files::output`]) and the part files of sharded renders ([`files::part`]) |
 //! | [`schedule`] | who renders which tile: [`schedule::frame`] (a render in progress), the [`schedule::modes`] and the [`schedule::conformance`] check |
 //! | [`measure`] | the [`measure::speedup`] benchmark, error ([`measure::compare`], [`measure::convergence`]), [`measure::stress`] cases, [`measure::plot`]s, [`measure::machine`] labels |
 //! | [`cli`] | the `raypool` command |
@@ -31,4 +31,5 @@ pub use files::image::Image;
 pub use scenes::format::SceneFile;
 pub use schedule::frame::{Frame, RngSource};
 pub use schedule::modes::{Schedule, Scheduler};
-pub use tracer::render::{RenderJob, RenderSettings, Tile, TileOutput};
+pub use tracer::render::{RenderJob, RenderSettings, TileOutput};
+pub use tracer::tile::{Shard, Tile};

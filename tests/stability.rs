@@ -7,9 +7,10 @@ use glam::DVec3;
 use raypool::measure::stress::{StressCase, cases};
 use raypool::scenes::builtin::builtin_scene;
 use raypool::tracer::real::to_dvec3;
-use raypool::tracer::render::{RenderJob, RenderSettings, Tile, render_tile};
+use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
 use raypool::tracer::sampler::{PerSample, RandomStreams};
 use raypool::tracer::sphere::Intersection;
+use raypool::tracer::tile::Tile;
 
 fn case(name: &str) -> StressCase {
     cases().into_iter().find(|c| c.name.starts_with(name)).unwrap_or_else(|| panic!("no case '{name}'"))

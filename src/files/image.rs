@@ -2,6 +2,7 @@
 
 use crate::tracer::real::{Vec3, to_f64};
 use crate::tracer::render::TileOutput;
+use crate::tracer::tile::Tile;
 
 /// A linear-light RGB image, row-major, row 0 at the top.
 #[derive(Clone, Debug, PartialEq)]
@@ -18,30 +19,58 @@ impl Image {
     /// Assembles tiles into an image; an error names a pixel that the tiles leave out or
     /// cover twice (a scheduler bug, never bad input).
     pub fn from_tiles(width: u32, height: u32, tiles: &[TileOutput]) -> Result<Image, String> {
-        let mut pixels = vec![Vec3::ZERO; width as usize * height as usize];
-        let mut written = vec![false; pixels.len()];
+        Image::from_tiles_within(width, height, &[Tile::rows(width, 0..height)], tiles)
+    }
+
+    /// Assembles tiles that cover exactly the pixels of `region` (a shard's tiles, say) once
+    /// each; the pixels outside `region` stay black. An error names the first pixel left out,
+    /// covered twice, or outside `region`.
+    pub fn from_tiles_within(
+        width: u32,
+        height: u32,
+        region: &[Tile],
+        tiles: &[TileOutput],
+    ) -> Result<Image, String> {
+        let mut wanted = vec![false; width as usize * height as usize];
+        for &t in region {
+            check_fits(t, width, height)?;
+            for (start, len) in spans(t, width) {
+                wanted[start..start + len].fill(true);
+            }
+        }
+        let mut pixels = vec![Vec3::ZERO; wanted.len()];
+        let mut written = vec![false; wanted.len()];
+        let at = |k: usize| (k % width as usize, k / width as usize);
         for out in tiles {
             let t = out.tile;
-            if t.x + t.width > width || t.y + t.height > height || out.pixels.len() != t.area() {
-                return Err(format!("tile {t:?} does not fit the {width}x{height} image"));
+            check_fits(t, width, height)?;
+            if out.pixels.len() != t.area() {
+                return Err(format!("tile {t:?} holds {} pixels, not {}", out.pixels.len(), t.area()));
             }
-            for (row, chunk) in out.pixels.chunks_exact(t.width as usize).enumerate() {
-                let start = (t.y as usize + row) * width as usize + t.x as usize;
-                pixels[start..start + chunk.len()].copy_from_slice(chunk);
-                if let Some(k) = written[start..start + chunk.len()].iter().position(|&w| w) {
-                    return Err(format!(
-                        "pixel ({}, {}) rendered twice",
-                        t.x as usize + k,
-                        t.y as usize + row
-                    ));
+            for ((start, len), chunk) in spans(t, width).zip(out.pixels.chunks_exact(t.width as usize)) {
+                if let Some(k) = (start..start + len).find(|&k| written[k] || !wanted[k]) {
+                    let (x, y) = at(k);
+                    let why = if written[k] { "rendered twice" } else { "outside the frame's tiles" };
+                    return Err(format!("pixel ({x}, {y}) {why}"));
                 }
-                written[start..start + chunk.len()].fill(true);
+                pixels[start..start + len].copy_from_slice(chunk);
+                written[start..start + len].fill(true);
             }
         }
-        match written.iter().position(|&w| !w) {
-            Some(k) => Err(format!("pixel ({}, {}) never rendered", k % width as usize, k / width as usize)),
+        match (0..wanted.len()).find(|&k| wanted[k] && !written[k]) {
+            Some(k) => Err(format!("pixel ({}, {}) never rendered", at(k).0, at(k).1)),
             None => Ok(Image { width, height, pixels }),
         }
+    }
+
+    /// The pixels of `tile`, row-major.
+    ///
+    /// # Panics
+    /// If `tile` does not fit the image.
+    pub fn crop(&self, tile: Tile) -> Vec<Vec3> {
+        spans(tile, self.width)
+            .flat_map(|(start, len)| self.pixels[start..start + len].iter().copied())
+            .collect()
     }
 
     /// 8-bit sRGB-ish bytes (`RGBRGB…`): the book's gamma 2 (`sqrt`), clamped to [0, 1).
@@ -52,4 +81,15 @@ impl Image {
             .map(|linear| (256.0 * to_f64(linear.max(0.0)).sqrt().min(0.999)) as u8)
             .collect()
     }
+}
+
+/// Whether `t` lies inside a `width × height` image.
+fn check_fits(t: Tile, width: u32, height: u32) -> Result<(), String> {
+    let fits = t.x as u64 + t.width as u64 <= width as u64 && t.y as u64 + t.height as u64 <= height as u64;
+    if fits { Ok(()) } else { Err(format!("tile {t:?} does not fit the {width}x{height} image")) }
+}
+
+/// Each row of `t` as (index of its first pixel, length) in a row-major image `width` wide.
+fn spans(t: Tile, width: u32) -> impl Iterator<Item = (usize, usize)> {
+    (t.y..t.y + t.height).map(move |y| (y as usize * width as usize + t.x as usize, t.width as usize))
 }

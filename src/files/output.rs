@@ -26,6 +26,8 @@ pub enum Format {
     Ppm,
     /// `.pfm`: linear 32-bit float RGB, no gamma (for measuring error).
     Pfm,
+    /// `.rpart`: one shard of an image, to be merged (see [`crate::files::part`]).
+    Part,
 }
 
 impl Format {
@@ -36,8 +38,9 @@ impl Format {
             Some("png") => Ok(Format::Png),
             Some("ppm") => Ok(Format::Ppm),
             Some("pfm") => Ok(Format::Pfm),
+            Some("rpart") => Ok(Format::Part),
             _ => Err(Error::new(format!(
-                "cannot tell the image format of '{}': use a .png, .ppm or .pfm file name",
+                "cannot tell the image format of '{}': use a .png, .ppm, .pfm or .rpart file name",
                 path.display()
             ))),
         }
@@ -52,6 +55,11 @@ pub struct PendingOutput {
 }
 
 impl PendingOutput {
+    /// The format, from the destination's extension.
+    pub fn format(&self) -> Format {
+        self.format
+    }
+
     /// Checks the format and that the destination's directory is writable.
     pub fn create(path: &Path) -> Result<PendingOutput, Error> {
         let format = Format::from_path(path)?;
@@ -59,7 +67,12 @@ impl PendingOutput {
             Some(d) if !d.as_os_str().is_empty() => d,
             _ => Path::new("."),
         };
-        let temp = tempfile::Builder::new()
+        let mut builder = tempfile::Builder::new();
+        // A temporary file is private (0600); the finished file is an ordinary one, readable
+        // as the umask allows, like any file the user's tools create.
+        #[cfg(unix)]
+        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+        let temp = builder
             .prefix(".raypool-")
             .suffix(".tmp")
             .tempfile_in(dir)
@@ -70,19 +83,21 @@ impl PendingOutput {
     /// Encodes `image`, then renames the finished file onto the destination.
     pub fn write(self, image: &Image) -> Result<(), Error> {
         let format = self.format;
-        self.finish(|out| encode(image, format, out))
+        self.write_with(|out| encode(image, format, out))
     }
 
     /// Writes 8-bit RGB bytes (e.g. a plot) as a PNG, then renames it into place.
     pub fn write_rgb8(self, width: u32, height: u32, rgb: &[u8]) -> Result<(), Error> {
-        self.finish(|out| {
+        self.write_with(|out| {
             PngEncoder::new(out)
                 .write_image(rgb, width, height, image::ExtendedColorType::Rgb8)
                 .map_err(|e| e.to_string())
         })
     }
 
-    fn finish(
+    /// Writes the file with `encode`, then renames it into place; on an error, nothing is
+    /// left behind.
+    pub fn write_with(
         self,
         encode: impl FnOnce(&mut BufWriter<&std::fs::File>) -> Result<(), String>,
     ) -> Result<(), Error> {
@@ -108,6 +123,7 @@ pub fn encode(image: &Image, format: Format, out: &mut impl Write) -> Result<(),
             .write_image(&image.to_rgb8(), w, h, image::ExtendedColorType::Rgb8)
             .map_err(|e| e.to_string()),
         Format::Pfm => write_pfm(image, out).map_err(|e| io_reason(&e)),
+        Format::Part => Err("a .rpart file holds one shard of a render, not an image".to_string()),
     }
 }
 

@@ -10,8 +10,9 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::files::image::Image;
-use crate::tracer::render::{RenderJob, Tile, TileOutput, TileTiming, render_tile};
+use crate::tracer::render::{RenderJob, TileOutput, TileTiming, render_tile};
 use crate::tracer::sampler::{PerSample, SharedRng};
+use crate::tracer::tile::{Shard, Tile};
 
 /// Default tile side for the tiled modes, pixels (measured: `results/tile-size.md`).
 pub const DEFAULT_TILE: u32 = 16;
@@ -37,6 +38,7 @@ pub struct Frame {
     pub threads: usize,
     /// Side of the square tiles that [`Frame::tiles`] cuts, in pixels.
     pub tile_size: u32,
+    shard: Shard,
     progress: Progress,
     epoch: Instant,
 }
@@ -49,6 +51,7 @@ impl Frame {
             rng,
             threads: threads.max(1),
             tile_size: tile_size.max(1),
+            shard: Shard::WHOLE,
             progress,
             epoch: Instant::now(),
         }
@@ -69,24 +72,46 @@ impl Frame {
         self.job.settings.height
     }
 
-    /// One tile per image row, top to bottom.
+    /// The same frame restricted to `shard`: only that shard's tiles are rendered (see
+    /// [`Shard`]), and [`Frame::rows`] and [`Frame::tiles`] hand out only its pixels.
+    pub fn sharded(mut self, shard: Shard) -> Frame {
+        self.shard = shard;
+        self
+    }
+
+    /// Which shard of the image this frame renders ([`Shard::WHOLE`] unless
+    /// [`Frame::sharded`]).
+    pub fn shard(&self) -> Shard {
+        self.shard
+    }
+
+    /// One tile per image row, top to bottom. In a shard, a row is the shard's part of it:
+    /// one strip a pixel high per shard tile that crosses the row, left to right.
     pub fn rows(&self) -> Vec<Tile> {
-        (0..self.height()).map(|y| Tile::rows(self.width(), y..y + 1)).collect()
+        if self.shard == Shard::WHOLE {
+            return (0..self.height()).map(|y| Tile::rows(self.width(), y..y + 1)).collect();
+        }
+        let tiles = self.tiles();
+        // Grid tiles come in row-major order, so a band of tiles sharing `y` is contiguous.
+        tiles
+            .chunk_by(|a, b| a.y == b.y)
+            .flat_map(|band| {
+                (band[0].y..band[0].y + band[0].height).flat_map(move |y| {
+                    band.iter().map(move |t| Tile { x: t.x, y, width: t.width, height: 1 })
+                })
+            })
+            .collect()
     }
 
     /// Square tiles of `tile_size` (smaller at the right and bottom edges), in row-major
-    /// order: left to right, then top to bottom.
+    /// order ([`Tile::grid`]); in a shard, only the shard's tiles.
     pub fn tiles(&self) -> Vec<Tile> {
-        let (w, h, s) = (self.width(), self.height(), self.tile_size);
-        (0..h.div_ceil(s))
-            .flat_map(|ty| (0..w.div_ceil(s)).map(move |tx| (tx, ty)))
-            .map(|(tx, ty)| Tile {
-                x: tx * s,
-                y: ty * s,
-                width: s.min(w - tx * s),
-                height: s.min(h - ty * s),
-            })
-            .collect()
+        self.shard.tiles(&Tile::grid(self.width(), self.height(), self.tile_size))
+    }
+
+    /// How many pixels this frame renders: the whole image's, or its shard's.
+    pub fn pixels(&self) -> u64 {
+        self.tiles().iter().map(|t| t.area() as u64).sum()
     }
 
     /// Renders `tile` on the calling thread and reports its pixels as progress.
@@ -102,8 +127,12 @@ impl Frame {
         out
     }
 
-    /// Assembles rendered tiles into the image, checking that they cover every pixel once.
+    /// Assembles rendered tiles into the image, checking that they cover every pixel of the
+    /// frame once (in a shard, the shard's pixels; the others stay black).
     pub fn assemble(&self, tiles: &[TileOutput]) -> Result<Image, String> {
-        Image::from_tiles(self.width(), self.height(), tiles)
+        if self.shard == Shard::WHOLE {
+            return Image::from_tiles(self.width(), self.height(), tiles);
+        }
+        Image::from_tiles_within(self.width(), self.height(), &self.tiles(), tiles)
     }
 }

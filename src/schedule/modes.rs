@@ -19,7 +19,8 @@ use pool::{Discipline, ThreadPool};
 
 use crate::files::image::Image;
 use crate::schedule::frame::Frame;
-use crate::tracer::render::{Tile, TileOutput, TileTiming};
+use crate::tracer::render::{TileOutput, TileTiming};
+use crate::tracer::tile::Tile;
 
 /// A way of distributing a frame's tiles over threads.
 ///

@@ -1,7 +1,7 @@
 //! **The book's tracer**, in the book's order: numbers, rays, spheres, materials, the camera,
 //! the sky, the hierarchies that find hits fast (spheres four at a time in `packet`, the
 //! binary tree in `bvh`, the four-wide tree collapsed from it in `wide`), the scene that
-//! holds them, random numbers, and the one render loop that turns a tile of pixels into
+//! holds them, random numbers, tiles and shards (how an image is cut up), and the one render loop that turns a tile of pixels into
 //! colours.
 //!
 //! This is the bottom layer. It may use only itself, [`crate::error`] and outside crates; it
@@ -20,4 +20,5 @@ pub mod bvh;
 pub mod wide;
 pub mod scene;
 pub mod sampler;
+pub mod tile;
 pub mod render;

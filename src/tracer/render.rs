@@ -16,6 +16,7 @@ use crate::tracer::ray::Ray;
 use crate::tracer::real::{Real, Vec3, from_dvec3, to_dvec3};
 use crate::tracer::sampler::{RandomStreams, uniform};
 use crate::tracer::scene::Scene;
+use crate::tracer::tile::Tile;
 
 /// Largest accepted image side, pixels (the command line and every other entry point check it).
 pub const MAX_SIDE: u32 = 16384;
@@ -145,31 +146,6 @@ impl Adaptive {
 /// Rec. 709 luminance of a linear RGB value.
 fn luminance(c: Vec3) -> Real {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
-}
-
-/// A rectangle of pixels: columns `x..x + width`, rows `y..y + height` (row 0 at the top).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Tile {
-    /// Left column.
-    pub x: u32,
-    /// Top row.
-    pub y: u32,
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-}
-
-impl Tile {
-    /// The tile of whole rows `rows.start..rows.end` of an image `width` wide.
-    pub fn rows(width: u32, rows: std::ops::Range<u32>) -> Tile {
-        Tile { x: 0, y: rows.start, width, height: rows.end - rows.start }
-    }
-
-    /// Number of pixels.
-    pub fn area(&self) -> usize {
-        self.width as usize * self.height as usize
-    }
 }
 
 /// A rendered tile: its pixels (row-major, linear RGB means) and how many rays it cast.

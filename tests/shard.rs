@@ -1,0 +1,251 @@
+//! Shards: `render --shard K/N` parts merged by `raypool merge` are the one-process image,
+//! byte for byte, whatever N, tile size and scheduler; a missing, duplicated, foreign,
+//! truncated or corrupt part is one line naming it, exit code 2, and no image.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use raypool::files::image::Image;
+use raypool::files::part::{Part, PartSettings, merge};
+use raypool::tracer::real::Vec3;
+use raypool::{RenderSettings, Shard, Tile};
+
+fn raypool(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(dir).output().expect("raypool runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("raypool-shard-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn ok(out: Output) -> Output {
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    out
+}
+
+/// Renders `scene` whole into `whole.pfm` and as `n` parts with the modes taken in turn,
+/// merges the parts, and returns (whole bytes, merged bytes).
+fn whole_and_merged(dir: &Path, scene: &str, n: u32, tile: &str, modes: &[&str]) -> (Vec<u8>, Vec<u8>) {
+    let common = ["--scene", scene, "--width", "61", "--spp", "3", "--depth", "10", "--tile", tile];
+    let mut args = vec!["render", "--out", "whole.pfm"];
+    args.extend_from_slice(&common);
+    ok(raypool(&args, dir));
+    let mut parts = Vec::new();
+    for k in 0..n {
+        let (shard, part) = (format!("{k}/{n}"), format!("part-{k}.rpart"));
+        let threads = (k % 3 + 1).to_string();
+        let mode = modes[k as usize % modes.len()];
+        let mut args =
+            vec!["render", "--shard", &shard, "--out", &part, "--mode", mode, "--threads", &threads];
+        args.extend_from_slice(&common);
+        ok(raypool(&args, dir));
+        parts.push(part);
+    }
+    parts.reverse(); // any order
+    let mut args = vec!["merge", "--out", "merged.pfm"];
+    args.extend(parts.iter().map(String::as_str));
+    let out = ok(raypool(&args, dir));
+    let summary = String::from_utf8_lossy(&out.stderr);
+    assert!(summary.contains(&format!("merged {n} parts")), "{summary}");
+    (std::fs::read(dir.join("whole.pfm")).unwrap(), std::fs::read(dir.join("merged.pfm")).unwrap())
+}
+
+#[test]
+fn merged_parts_equal_the_one_process_render_for_1_3_and_7_shards() {
+    let modes = ["serial", "static", "interleaved", "pool-rows", "pool", "steal"];
+    for (n, tile, scene) in [(1, "16", "final"), (3, "16", "final"), (7, "9", "paper2"), (3, "64", "paper1")]
+    {
+        let dir = scratch(&format!("merge-{n}-{tile}"));
+        let (whole, merged) = whole_and_merged(&dir, scene, n, tile, &modes);
+        assert!(whole == merged, "{n} shards of {tile}-pixel tiles ({scene}): merged image differs");
+    }
+}
+
+#[test]
+fn more_shards_than_tiles_leave_some_parts_empty_and_still_merge() {
+    let dir = scratch("empty");
+    // 61 × 41 in 64-pixel tiles is one tile: shards 1 and 2 hold none.
+    let (whole, merged) = whole_and_merged(&dir, "three-spheres", 3, "64", &["steal", "static"]);
+    assert!(whole == merged);
+}
+
+/// Renders 3 parts of `paper1` into `dir` (part-0..2.rpart); returns their names.
+fn three_parts(dir: &Path, extra: &[&str]) -> Vec<String> {
+    (0..3)
+        .map(|k| {
+            let (shard, part) = (format!("{k}/3"), format!("part-{k}{}.rpart", extra.join("")));
+            let mut args = vec!["render", "--scene", "paper1", "--width", "40", "--spp", "2", "--depth", "6"];
+            args.extend_from_slice(&["--shard", &shard, "--out", &part]);
+            args.extend_from_slice(extra);
+            ok(raypool(&args, dir));
+            part
+        })
+        .collect()
+}
+
+/// `merge` of `parts` fails with exit code 2, one line containing `expected`, and no image.
+fn refused(dir: &Path, parts: &[&str], expected: &str) {
+    let mut args = vec!["merge", "--out", "out.png"];
+    args.extend_from_slice(parts);
+    let out = raypool(&args, dir);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{parts:?}: {stderr}");
+    assert_eq!(stderr.lines().count(), 1, "one line: {stderr}");
+    assert!(stderr.contains(expected), "{parts:?}: expected '{expected}' in: {stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(!dir.join("out.png").exists(), "no image after a refused merge");
+    let leftovers = std::fs::read_dir(dir)
+        .unwrap()
+        .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().starts_with(".raypool-"));
+    assert_eq!(leftovers.count(), 0, "no temporary file left behind");
+}
+
+#[test]
+fn bad_parts_are_refused_by_name() {
+    let dir = scratch("bad");
+    let parts = three_parts(&dir, &[]);
+    let p: Vec<&str> = parts.iter().map(String::as_str).collect();
+    ok(raypool(&["merge", "--out", "good.png", p[0], p[1], p[2]], &dir));
+
+    refused(&dir, &[p[0], p[2]], "shard 1 of 3 is missing");
+    refused(&dir, &[p[0], p[1], p[1], p[2]], "part-1.rpart: shard 1 of 3 again");
+    refused(&dir, &[p[0], p[1], p[2], "absent.rpart"], "absent.rpart: cannot read");
+
+    // A part of another image: another seed; another scene.
+    let other_seed = three_parts(&dir, &["--seed", "9"]);
+    refused(
+        &dir,
+        &[p[0], &other_seed[1], p[2]],
+        "part-1--seed9.rpart: not a part of the same image as part-0.rpart (seed 9 vs 1)",
+    );
+    let mut args = vec!["render", "--scene", "paper2", "--width", "40", "--spp", "2", "--depth", "6"];
+    args.extend_from_slice(&["--shard", "1/3", "--out", "paper2.rpart"]);
+    ok(raypool(&args, &dir));
+    refused(
+        &dir,
+        &[p[0], "paper2.rpart", p[2]],
+        "paper2.rpart: not a part of the same image as part-0.rpart (scene_digest",
+    );
+    // Cut into a different number of shards.
+    let mut args = vec!["render", "--scene", "paper1", "--width", "40", "--spp", "2", "--depth", "6"];
+    args.extend_from_slice(&["--shard", "1/4", "--out", "of4.rpart"]);
+    ok(raypool(&args, &dir));
+    refused(
+        &dir,
+        &[p[0], "of4.rpart", p[2]],
+        "of4.rpart: not a part of the same image as part-0.rpart (shards 4 vs 3)",
+    );
+
+    // Damaged files.
+    let bytes = std::fs::read(dir.join(p[1])).unwrap();
+    std::fs::write(dir.join("cut.rpart"), &bytes[..bytes.len() - 100]).unwrap();
+    refused(&dir, &[p[0], "cut.rpart", p[2]], "cut.rpart: truncated");
+    std::fs::write(dir.join("header-cut.rpart"), &bytes[..40]).unwrap();
+    refused(&dir, &[p[0], "header-cut.rpart", p[2]], "header-cut.rpart: truncated header");
+    let mut flipped = bytes.clone();
+    let last = flipped.len() - 5;
+    flipped[last] ^= 0x10;
+    std::fs::write(dir.join("flipped.rpart"), &flipped).unwrap();
+    refused(&dir, &[p[0], "flipped.rpart", p[2]], "flipped.rpart: corrupt");
+    let mut longer = bytes.clone();
+    longer.extend_from_slice(b"junk");
+    std::fs::write(dir.join("longer.rpart"), &longer).unwrap();
+    refused(&dir, &[p[0], "longer.rpart", p[2]], "longer.rpart: 4 bytes past its data");
+    let text = String::from_utf8_lossy(&bytes).replacen("raypool-part 1", "raypool-part 7", 1);
+    std::fs::write(dir.join("future.rpart"), text.as_bytes()).unwrap();
+    refused(&dir, &[p[0], "future.rpart", p[2]], "future.rpart: part format version 7");
+    std::fs::write(dir.join("image.rpart"), b"P6\n1 1\n255\n\0\0\0").unwrap();
+    refused(&dir, &[p[0], "image.rpart", p[2]], "image.rpart: not a raypool part file");
+    std::fs::write(dir.join("empty.rpart"), b"").unwrap();
+    refused(&dir, &[p[0], "empty.rpart", p[2]], "empty.rpart: not a raypool part file");
+    let mut bad_header = bytes.clone();
+    let at = bad_header.windows(6).position(|w| w == b"spp = ").unwrap();
+    bad_header[at..at + 6].copy_from_slice(b"spp =\"");
+    std::fs::write(dir.join("bad-header.rpart"), &bad_header).unwrap();
+    refused(&dir, &[p[0], "bad-header.rpart", p[2]], "bad-header.rpart: bad header");
+
+    // Bad command lines.
+    let out = raypool(&["merge", "--out", "x.rpart", p[0], p[1], p[2]], &dir);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("merge writes an image"));
+    for (args, expected) in [
+        (vec!["render", "--shard", "3/3", "--out", "x.rpart"], "K must be below N"),
+        (vec!["render", "--shard", "1/0", "--out", "x.rpart"], "N must be 1 to 65536"),
+        (vec!["render", "--shard", "one/3", "--out", "x.rpart"], "'one' is not a whole number"),
+        (vec!["render", "--shard", "1/3", "--out", "x.png"], "writes a part file"),
+        (vec!["render", "--shard", "1/3", "--rng", "shared", "--out", "x.rpart"], "use --rng per-sample"),
+    ] {
+        let out = raypool(&args, &dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected) && stderr.lines().count() == 1, "{args:?}: {stderr}");
+        assert!(!dir.join("x.rpart").exists() && !dir.join("x.png").exists());
+    }
+}
+
+#[test]
+fn a_part_round_trips_through_its_bytes() {
+    let (width, height, tile) = (20, 9, 4);
+    let image = Image {
+        width,
+        height,
+        pixels: (0..width * height).map(|k| Vec3::new(k as f32 / 7.0, 1e-30, 3.0e7)).collect(),
+    };
+    let settings = RenderSettings { width, height, ..RenderSettings::default() };
+    let grid = Tile::grid(width, height, tile);
+    let parts: Vec<(String, Part)> = (0..2)
+        .map(|k| {
+            let shard = Shard { index: k, count: 2 };
+            let part = Part::new(
+                PartSettings::new("d".into(), &settings, tile, 2),
+                shard,
+                &shard.tiles(&grid),
+                &image,
+            );
+            let read = Part::from_bytes(&part.to_bytes()).expect("a part reads back");
+            assert_eq!(read.tiles, part.tiles, "pixels exactly as written");
+            (format!("p{k}"), read)
+        })
+        .collect();
+    assert_eq!(merge(&parts).unwrap(), image);
+}
+
+#[test]
+fn a_shards_rows_and_tiles_cover_exactly_its_pixels() {
+    use raypool::tracer::sampler::PerSample;
+    use raypool::{Frame, RenderJob, RngSource};
+    let settings =
+        RenderSettings { width: 37, height: 23, spp: 1, max_depth: 3, ..RenderSettings::default() };
+    let scene = raypool::scenes::builtin::builtin_scene("paper1", 1).unwrap().to_scene();
+    let mut covered = vec![0u32; 37 * 23];
+    for k in 0..5 {
+        let frame = Frame::new(
+            RenderJob::new(scene.clone(), settings),
+            RngSource::PerSample(PerSample { seed: 1 }),
+            2,
+            6,
+            std::sync::Arc::new(|_| {}),
+        )
+        .sharded(Shard { index: k, count: 5 });
+        let mut by_rows = vec![false; 37 * 23];
+        for t in frame.rows() {
+            assert_eq!(t.height, 1, "a shard's row is a strip a pixel high");
+            for x in t.x..t.x + t.width {
+                by_rows[(t.y * 37 + x) as usize] = true;
+            }
+        }
+        for t in frame.tiles() {
+            for y in t.y..t.y + t.height {
+                for x in t.x..t.x + t.width {
+                    assert!(by_rows[(y * 37 + x) as usize], "rows and tiles cover the same pixels");
+                    covered[(y * 37 + x) as usize] += 1;
+                }
+            }
+        }
+        assert_eq!(by_rows.iter().filter(|&&b| b).count() as u64, frame.pixels());
+    }
+    assert!(covered.iter().all(|&c| c == 1), "five shards cover every pixel once");
+}
