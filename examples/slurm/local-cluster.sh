@@ -17,15 +17,20 @@ usage() { echo "usage: $0 start|stop DIR" >&2; exit 2; }
 action=$1
 dir=$(mkdir -p "$2" && cd "$2" && pwd)
 
+# Whether process $1 runs (exists and is not a zombie waiting to be reaped).
+running() {
+    [ -r "/proc/$1/stat" ] && ! sed 's/.*) //' "/proc/$1/stat" | grep -q '^Z'
+}
+
 # Sends TERM to the process in pid file $1, then waits (10 s, then KILL) until it is gone.
 stop_pid_file() {
     local file=$1 pid
     [ -s "$file" ] || return 0
     pid=$(cat "$file")
-    if kill -0 "$pid" 2>/dev/null; then
+    if running "$pid"; then
         kill -TERM "$pid" 2>/dev/null || true
-        for _ in $(seq 100); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
-        kill -0 "$pid" 2>/dev/null && kill -KILL "$pid" 2>/dev/null || true
+        for _ in $(seq 100); do running "$pid" || break; sleep 0.1; done
+        if running "$pid"; then kill -KILL "$pid" 2>/dev/null || true; fi
     fi
     rm -f "$file"
 }
