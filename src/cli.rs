@@ -1,4 +1,4 @@
-//! The command line: `raypool render | merge | scenes | scene | bench | compare`. Every failure is an [`Error`] that
+//! The command line: `raypool render | merge | simulate | scenes | scene | bench | compare`. Every failure is an [`Error`] that
 //! `main` prints on one line before exiting with code 2.
 
 use std::io::IsTerminal;
@@ -12,6 +12,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use crate::error::Error;
 use crate::files::output::{Format, PendingOutput};
 use crate::files::part::{Part, PartSettings, merge, scene_digest};
+use crate::measure::scaling::{MODELLED, Study, measure, measure_costs, write_report};
 use crate::measure::speedup::{Preset, write_reports};
 use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::scenes::format::SceneFile;
@@ -46,6 +47,9 @@ pub enum Command {
         #[arg(long, value_name = "FILE")]
         out: PathBuf,
     },
+    /// Predict every scheduler's speedup at many thread counts from one single-thread render,
+    /// and with --measure check the prediction against real runs on this machine.
+    Simulate(SimulateArgs),
     /// List the built-in scenes.
     Scenes,
     /// Measure every mode at 1…2×CPUs threads on the benchmark scenes; write tables and plots.
@@ -85,9 +89,10 @@ pub enum Command {
     },
 }
 
-/// Options of `raypool render`.
+/// What to render and how: the scene, the image size and the sampling (shared by `render`
+/// and `simulate`).
 #[derive(Debug, Args)]
-pub struct RenderArgs {
+pub struct ImageArgs {
     /// Built-in scene (see `raypool scenes`).
     #[arg(long, default_value = "final", conflicts_with = "scene_file")]
     pub scene: String,
@@ -126,6 +131,21 @@ pub struct RenderArgs {
     /// Seed of the pixel samples' random streams.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Tile side in pixels, for the tiled modes (pool, steal).
+    #[arg(long, default_value_t = DEFAULT_TILE, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
+    pub tile: u32,
+    /// How rays find the closest sphere: auto (every sphere below 6, the binary tree below
+    /// 64, else the 4-wide tree), or one method for comparisons; all find the same hits.
+    #[arg(long, value_enum, default_value_t = AccelChoice::Auto)]
+    pub accel: AccelChoice,
+}
+
+/// Options of `raypool render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// The scene, image size and sampling.
+    #[command(flatten)]
+    pub image: ImageArgs,
     /// Worker threads [default: the number of CPUs].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub threads: Option<u32>,
@@ -134,17 +154,10 @@ pub struct RenderArgs {
     /// work stealing).
     #[arg(long, value_enum, default_value_t = Schedule::Stealing)]
     pub mode: Schedule,
-    /// Tile side in pixels, for the tiled modes (pool, steal).
-    #[arg(long, default_value_t = DEFAULT_TILE, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
-    pub tile: u32,
     /// Random numbers: per-sample streams (reproducible) or one generator behind a lock
     /// shared by all threads, as the seed paper's rand() (an ablation; not reproducible).
     #[arg(long, value_enum, default_value_t = RngChoice::PerSample)]
     pub rng: RngChoice,
-    /// How rays find the closest sphere: auto (every sphere below 6, the binary tree below
-    /// 64, else the 4-wide tree), or one method for comparisons; all find the same hits.
-    #[arg(long, value_enum, default_value_t = AccelChoice::Auto)]
-    pub accel: AccelChoice,
     /// Render only shard K of N: the tiles (of --tile) whose row-major index is K mod N,
     /// into a part file (--out NAME.rpart) for `raypool merge`.
     #[arg(long, value_name = "K/N")]
@@ -153,6 +166,27 @@ pub struct RenderArgs {
     /// .rpart (a part file of --shard, or of the whole image without it).
     #[arg(long, default_value = "render.png")]
     pub out: PathBuf,
+}
+
+/// Options of `raypool simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// The scene, image size and sampling.
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Thread counts to predict, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4,8,16,32,64,128,256", value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub threads: Vec<u32>,
+    /// Also render every mode at each of those thread counts this machine has CPUs for
+    /// (2 and up), and print the measured speedup beside the predicted one.
+    #[arg(long)]
+    pub measure: bool,
+    /// With --measure: runs per mode and thread count (the median counts).
+    #[arg(long, default_value_t = 3, requires = "measure", value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub runs: u32,
+    /// Write scaling.md, scaling.csv and scaling.png into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub report: Option<PathBuf>,
 }
 
 /// The `--accel` choices.
@@ -204,6 +238,7 @@ pub fn run(cli: Cli) -> Result<(), Error> {
     match cli.command {
         Command::Render(args) => render_command(&args),
         Command::Merge { parts, out } => merge_command(&parts, &out),
+        Command::Simulate(args) => simulate_command(&args),
         Command::Scenes => {
             for b in BUILTINS {
                 println!("{:<14} {}", b.name, b.about);
@@ -257,7 +292,7 @@ pub fn run(cli: Cli) -> Result<(), Error> {
 }
 
 /// The scene chosen by `--scene` / `--scene-file`.
-pub fn load_scene(args: &RenderArgs) -> Result<SceneFile, Error> {
+pub fn load_scene(args: &ImageArgs) -> Result<SceneFile, Error> {
     match &args.scene_file {
         Some(path) => SceneFile::read(path),
         None => builtin_scene(&args.scene, args.scene_seed),
@@ -265,12 +300,13 @@ pub fn load_scene(args: &RenderArgs) -> Result<SceneFile, Error> {
 }
 
 fn render_command(args: &RenderArgs) -> Result<(), Error> {
-    let scene = load_scene(args)?;
-    let height = match args.height {
+    let image = &args.image;
+    let scene = load_scene(image)?;
+    let height = match image.height {
         Some(h) => h,
-        None => default_height(args.width, scene.camera.aspect)?,
+        None => default_height(image.width, scene.camera.aspect)?,
     };
-    let settings = render_settings(args, height)?;
+    let settings = render_settings(image, height)?;
     let threads = args.threads.map_or_else(default_threads, |t| t as usize);
     let output = PendingOutput::create(&args.out)?; // fail fast, before the long part
     let shard = check_shard(args, output.format())?;
@@ -279,14 +315,14 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
         RngChoice::Shared => RngSource::Shared(Arc::new(SharedRng::new(settings.seed))),
     };
     let pixels =
-        shard.tiles(&Tile::grid(settings.width, settings.height, args.tile)).iter().map(Tile::area).sum();
+        shard.tiles(&Tile::grid(settings.width, settings.height, image.tile)).iter().map(Tile::area).sum();
     let bar = progress_bar(pixels as u64);
     let progress = {
         let bar = bar.clone();
         Arc::new(move |n| bar.inc(n))
     };
-    let job = RenderJob::new(args.accel.apply(scene.to_scene()), settings);
-    let frame = Arc::new(Frame::new(job, rng, threads, args.tile, progress).sharded(shard));
+    let job = RenderJob::new(image.accel.apply(scene.to_scene()), settings);
+    let frame = Arc::new(Frame::new(job, rng, threads, image.tile, progress).sharded(shard));
 
     let start = Instant::now();
     let rendered = render(&frame, &args.mode);
@@ -295,7 +331,7 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
     if output.format() == Format::Part {
         let digest = scene_digest(&scene.to_toml());
         let mut part = Part::new(
-            PartSettings::new(digest, &settings, args.tile, shard.count),
+            PartSettings::new(digest, &settings, image.tile, shard.count),
             shard,
             &frame.tiles(),
             &rendered.image,
@@ -321,6 +357,46 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
         rendered.rays as f64 / seconds / 1e6,
         args.out.display()
     );
+    Ok(())
+}
+
+/// `raypool simulate`: one-thread costs, predictions, and optionally measured runs.
+fn simulate_command(args: &SimulateArgs) -> Result<(), Error> {
+    let image = &args.image;
+    let scene = load_scene(image)?;
+    let height = match image.height {
+        Some(h) => h,
+        None => default_height(image.width, scene.camera.aspect)?,
+    };
+    let settings = render_settings(image, height)?;
+    let job = RenderJob::new(image.accel.apply(scene.to_scene()), settings);
+    let name = image.scene_file.as_ref().map_or(image.scene.clone(), |p| p.display().to_string());
+    let subject = format!(
+        "{name}, {} × {height}, {} spp, depth {}, {}-pixel tiles",
+        image.width, settings.spp, settings.max_depth, image.tile
+    );
+    eprintln!("timing every row and tile of {subject} on one thread");
+    let costs = measure_costs(job.clone(), image.tile);
+    let mut threads: Vec<usize> = args.threads.iter().map(|&t| t as usize).collect();
+    threads.sort_unstable();
+    threads.dedup();
+    let (mut serial, mut measured) = (None, Vec::new());
+    if args.measure {
+        let runs = args.runs as usize;
+        serial = Some(measure(&job, image.tile, Schedule::Serial, 1, runs));
+        for &t in threads.iter().filter(|&&t| (2..=default_threads()).contains(&t)) {
+            eprintln!("measuring every mode on {t} threads, {runs} runs each");
+            measured.extend(MODELLED.map(|mode| measure(&job, image.tile, mode, t, runs)));
+        }
+    }
+    let command =
+        std::iter::once("raypool".to_string()).chain(std::env::args().skip(1)).collect::<Vec<_>>().join(" ");
+    let study = Study { subject, command, costs, threads, serial, measured };
+    print!("{}", study.table());
+    if let Some(dir) = &args.report {
+        write_report(dir, &study)?;
+        eprintln!("wrote {0}/scaling.md, {0}/scaling.csv, {0}/scaling.png", dir.display());
+    }
     Ok(())
 }
 
@@ -390,7 +466,7 @@ fn spp_summary(settings: &RenderSettings, samples: u64, pixels: usize) -> String
 }
 
 /// The render settings the flags ask for.
-fn render_settings(args: &RenderArgs, height: u32) -> Result<RenderSettings, Error> {
+fn render_settings(args: &ImageArgs, height: u32) -> Result<RenderSettings, Error> {
     let adaptive = match args.target_error {
         Some(target_error) if args.min_spp > args.max_spp => {
             return Err(Error::new(format!(

@@ -63,21 +63,7 @@ impl PendingOutput {
     /// Checks the format and that the destination's directory is writable.
     pub fn create(path: &Path) -> Result<PendingOutput, Error> {
         let format = Format::from_path(path)?;
-        let dir = match path.parent() {
-            Some(d) if !d.as_os_str().is_empty() => d,
-            _ => Path::new("."),
-        };
-        let mut builder = tempfile::Builder::new();
-        // A temporary file is private (0600); the finished file is an ordinary one, readable
-        // as the umask allows, like any file the user's tools create.
-        #[cfg(unix)]
-        builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-        let temp = builder
-            .prefix(".raypool-")
-            .suffix(".tmp")
-            .tempfile_in(dir)
-            .map_err(|e| Error::new(format!("cannot write '{}': {}", path.display(), io_reason(&e))))?;
-        Ok(PendingOutput { path: path.to_owned(), format, temp })
+        Ok(PendingOutput { path: path.to_owned(), format, temp: temp_beside(path)? })
     }
 
     /// Encodes `image`, then renames the finished file onto the destination.
@@ -101,14 +87,46 @@ impl PendingOutput {
         self,
         encode: impl FnOnce(&mut BufWriter<&std::fs::File>) -> Result<(), String>,
     ) -> Result<(), Error> {
-        let fail = |e: String| Error::new(format!("cannot write '{}': {e}", self.path.display()));
-        let mut out = BufWriter::new(self.temp.as_file());
-        encode(&mut out).map_err(&fail)?;
-        out.flush().map_err(|e| fail(io_reason(&e)))?;
-        drop(out);
-        self.temp.persist(&self.path).map_err(|e| fail(io_reason(&e.error)))?;
-        Ok(())
+        persist(self.temp, &self.path, encode)
     }
+}
+
+/// Writes `text` (a report, a table) to `path` atomically.
+pub fn write_text(path: &Path, text: &str) -> Result<(), Error> {
+    persist(temp_beside(path)?, path, |out| out.write_all(text.as_bytes()).map_err(|e| io_reason(&e)))
+}
+
+/// A temporary file in `path`'s directory, to be renamed onto `path` once complete.
+fn temp_beside(path: &Path) -> Result<NamedTempFile, Error> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut builder = tempfile::Builder::new();
+    // A temporary file is private (0600); the finished file is an ordinary one, readable
+    // as the umask allows, like any file the user's tools create.
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    builder
+        .prefix(".raypool-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(|e| Error::new(format!("cannot write '{}': {}", path.display(), io_reason(&e))))
+}
+
+/// Fills `temp` with `encode`, then renames it onto `path`.
+fn persist(
+    temp: NamedTempFile,
+    path: &Path,
+    encode: impl FnOnce(&mut BufWriter<&std::fs::File>) -> Result<(), String>,
+) -> Result<(), Error> {
+    let fail = |e: String| Error::new(format!("cannot write '{}': {e}", path.display()));
+    let mut out = BufWriter::new(temp.as_file());
+    encode(&mut out).map_err(&fail)?;
+    out.flush().map_err(|e| fail(io_reason(&e)))?;
+    drop(out);
+    temp.persist(path).map_err(|e| fail(io_reason(&e.error)))?;
+    Ok(())
 }
 
 /// Encodes `image` in `format` to `out`.

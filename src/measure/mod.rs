@@ -1,4 +1,5 @@
-//! **Measurement**: the speedup benchmark, error against a reference and its convergence with
+//! **Measurement**: the speedup benchmark, the scaling model that predicts it past this
+//! machine's cores, error against a reference and its convergence with
 //! samples, the numerical stress cases, the plots, and the machine label that every committed
 //! figure carries.
 //!
@@ -8,6 +9,7 @@
 //! scenes: each renders itself and judges the pixels against a known answer.
 
 pub mod speedup;
+pub mod scaling;
 pub mod convergence;
 pub mod compare;
 pub mod stress;

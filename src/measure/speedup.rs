@@ -9,6 +9,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::error::Error;
+use crate::files::output::write_text;
 use crate::measure::machine::Machine;
 use crate::measure::plot::{Series, speedup_plot, timeline_plot};
 use crate::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
@@ -375,13 +376,6 @@ fn markdown(preset: &Preset, outcome: &Outcome, command: &str, machine: &Machine
     }
     let _ = writeln!(md, "Thread counts measured: {:?}.", outcome.thread_counts);
     md
-}
-
-fn write_text(path: &Path, text: &str) -> Result<(), Error> {
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, text)
-        .and_then(|()| std::fs::rename(&tmp, path))
-        .map_err(|e| Error::new(format!("cannot write '{}': {e}", path.display())))
 }
 
 /// The seed paper's final-report table (seconds on its authors' machine, core count unknown)
