@@ -1,5 +1,5 @@
-//! PNG plots for `results/`: speedup curves, per-thread timelines (Gantt charts) and
-//! log–log error curves.
+//! PNG plots for `results/`: speedup curves, the scaling model's efficiency curves,
+//! per-thread timelines (Gantt charts) and log–log error curves.
 //!
 //! Drawn with plotters into an in-memory RGB buffer and encoded with the `image` crate, with
 //! a font compiled into the binary (Ubuntu Light, from `epaint_default_fonts`), so plots need
@@ -60,6 +60,56 @@ pub fn speedup_plot(path: &Path, title: &str, footer: &str, series: &[Series]) -
             chart.draw_series(points.into_iter().map(|p| Circle::new(p, 4, colour.filled())))?;
         }
         legend(&mut chart, SeriesLabelPosition::UpperLeft, 16)
+    })
+}
+
+/// One scheduler in an efficiency plot: predicted and measured `(threads, speedup)` points.
+pub struct ModelLine {
+    /// Legend text.
+    pub label: String,
+    /// The model's points, drawn as a line.
+    pub predicted: Vec<(usize, f64)>,
+    /// Measured points, drawn as triangles in the line's colour.
+    pub measured: Vec<(usize, f64)>,
+}
+
+/// Parallel efficiency (speedup ÷ threads) against threads on a log axis: a line per
+/// scheduler's prediction, its measured points as triangles of the same colour.
+pub fn efficiency_plot(path: &Path, title: &str, footer: &str, lines: &[ModelLine]) -> Result<(), Error> {
+    let points = |p: &[(usize, f64)]| -> Vec<(f64, f64)> {
+        p.iter().map(|&(t, s)| (t as f64, s / t as f64)).collect()
+    };
+    let all: Vec<(f64, f64)> =
+        lines.iter().flat_map(|l| points(&l.predicted).into_iter().chain(points(&l.measured))).collect();
+    let max_threads = all.iter().map(|p| p.0).fold(2.0, f64::max);
+    let top = all.iter().map(|p| p.1).fold(1.0, f64::max) * 1.1;
+    draw(path, footer, |root| {
+        let mut chart = ChartBuilder::on(root)
+            .caption(title, ("sans-serif", 22))
+            .margin(16)
+            .x_label_area_size(44)
+            .y_label_area_size(60)
+            .build_cartesian_2d((0.9f64..max_threads * 1.1).log_scale(), 0f64..top)?;
+        chart
+            .configure_mesh()
+            .x_desc("threads")
+            .y_desc("efficiency = speedup ÷ threads")
+            .label_style(("sans-serif", 16))
+            .draw()?;
+        for (k, line) in lines.iter().enumerate() {
+            let colour = Palette99::pick(k).to_rgba();
+            chart
+                .draw_series(LineSeries::new(points(&line.predicted), colour.stroke_width(2)))?
+                .label(line.label.as_str())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2)));
+            chart.draw_series(
+                points(&line.predicted).into_iter().map(|p| Circle::new(p, 3, colour.filled())),
+            )?;
+            chart.draw_series(
+                points(&line.measured).into_iter().map(|p| TriangleMarker::new(p, 7, colour.filled())),
+            )?;
+        }
+        legend(&mut chart, SeriesLabelPosition::LowerLeft, 16)
     })
 }
 
