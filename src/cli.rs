@@ -181,8 +181,9 @@ pub struct SimulateArgs {
     /// (2 and up), and print the measured speedup beside the predicted one.
     #[arg(long)]
     pub measure: bool,
-    /// With --measure: runs per mode and thread count (the median counts).
-    #[arg(long, default_value_t = 3, requires = "measure", value_parser = clap::value_parser!(u32).range(1..=1000))]
+    /// One-thread passes timing the rows and tiles (each unit's median counts), and with
+    /// --measure, runs per mode and thread count (the median counts).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub runs: u32,
     /// Write scaling.md, scaling.csv and scaling.png into this directory.
     #[arg(long, value_name = "DIR")]
@@ -375,8 +376,8 @@ fn simulate_command(args: &SimulateArgs) -> Result<(), Error> {
         "{name}, {} × {height}, {} spp, depth {}, {}-pixel tiles",
         image.width, settings.spp, settings.max_depth, image.tile
     );
-    eprintln!("timing every row and tile of {subject} on one thread");
-    let costs = measure_costs(job.clone(), image.tile);
+    eprintln!("timing every row and tile of {subject} on one thread, {} passes", args.runs);
+    let costs = measure_costs(job.clone(), image.tile, args.runs as usize);
     let mut threads: Vec<usize> = args.threads.iter().map(|&t| t as usize).collect();
     threads.sort_unstable();
     threads.dedup();

@@ -33,6 +33,7 @@ use crate::schedule::frame::{Frame, RngSource};
 use crate::schedule::modes::{Rendered, Schedule, render};
 use crate::tracer::render::RenderJob;
 use crate::tracer::sampler::PerSample;
+use crate::tracer::tile::Tile;
 
 /// Seconds each unit of work took on one thread.
 #[derive(Clone, Debug, PartialEq)]
@@ -50,21 +51,28 @@ impl Costs {
     }
 }
 
-/// Renders `job` on the calling thread twice, by rows and by tiles of `tile` pixels, timing
-/// each row and tile.
-pub fn measure_costs(job: RenderJob, tile: u32) -> Costs {
+/// Renders `job` on the calling thread by rows and by tiles of `tile` pixels, `passes` times
+/// each, timing each row and tile; a unit's cost is its median over the passes (one pass
+/// on a shared machine catches another process's bursts in a few units).
+pub fn measure_costs(job: RenderJob, tile: u32, passes: usize) -> Costs {
     let seed = job.settings.seed;
     let frame = Frame::new(job, RngSource::PerSample(PerSample { seed }), 1, tile, Arc::new(|_| {}));
-    let time = |units: Vec<_>| -> Vec<f64> {
-        units
-            .into_iter()
-            .map(|unit| {
-                let out = frame.render(unit);
-                out.timing.map_or(0.0, |t| (t.end - t.start).as_secs_f64())
-            })
-            .collect()
+    let time = |units: Vec<Tile>| -> Vec<f64> {
+        let mut samples: Vec<Vec<f64>> = vec![Vec::new(); units.len()];
+        for _ in 0..passes.max(1) {
+            for (unit, times) in units.iter().zip(&mut samples) {
+                let out = frame.render(*unit);
+                times.push(out.timing.map_or(0.0, |t| (t.end - t.start).as_secs_f64()));
+            }
+        }
+        samples.into_iter().map(median).collect()
     };
     Costs { rows: time(frame.rows()), tiles: time(frame.tiles()) }
+}
+
+fn median(mut values: Vec<f64>) -> f64 {
+    values.sort_by(f64::total_cmp);
+    values[values.len() / 2]
 }
 
 /// What the model predicts for one mode at one thread count.
