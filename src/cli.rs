@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use crate::error::Error;
 use crate::files::output::{Format, PendingOutput};
 use crate::files::part::{Part, PartSettings, merge, scene_digest};
-use crate::measure::scaling::{MODELLED, Study, measure, measure_costs, write_report};
+use crate::measure::scaling::{Study, measure_costs, measure_rounds, write_report};
 use crate::measure::speedup::{Preset, write_reports};
 use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::scenes::format::SceneFile;
@@ -182,7 +182,7 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub measure: bool,
     /// One-thread passes timing the rows and tiles (each unit's median counts), and with
-    /// --measure, runs per mode and thread count (the median counts).
+    /// --measure, rounds of real runs (each round runs serial and every mode once).
     #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub runs: u32,
     /// Write scaling.md, scaling.csv and scaling.png into this directory.
@@ -381,18 +381,17 @@ fn simulate_command(args: &SimulateArgs) -> Result<(), Error> {
     let mut threads: Vec<usize> = args.threads.iter().map(|&t| t as usize).collect();
     threads.sort_unstable();
     threads.dedup();
-    let (mut serial, mut measured) = (None, Vec::new());
+    let (mut serial_seconds, mut measured) = (None, Vec::new());
     if args.measure {
-        let runs = args.runs as usize;
-        serial = Some(measure(&job, image.tile, Schedule::Serial, 1, runs));
-        for &t in threads.iter().filter(|&&t| (2..=default_threads()).contains(&t)) {
-            eprintln!("measuring every mode on {t} threads, {runs} runs each");
-            measured.extend(MODELLED.map(|mode| measure(&job, image.tile, mode, t, runs)));
-        }
+        let here: Vec<usize> =
+            threads.iter().copied().filter(|t| (2..=default_threads()).contains(t)).collect();
+        eprintln!("measuring serial and every mode at {here:?} threads, {} rounds", args.runs);
+        let (serial, runs) = measure_rounds(&job, image.tile, &here, args.runs as usize);
+        (serial_seconds, measured) = (Some(serial), runs);
     }
     let command =
         std::iter::once("raypool".to_string()).chain(std::env::args().skip(1)).collect::<Vec<_>>().join(" ");
-    let study = Study { subject, command, costs, threads, serial, measured };
+    let study = Study { subject, command, costs, threads, serial_seconds, measured };
     print!("{}", study.table());
     if let Some(dir) = &args.report {
         write_report(dir, &study)?;

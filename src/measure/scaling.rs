@@ -168,34 +168,58 @@ pub fn threads_to_reach(costs: &Costs, mode: Schedule, speedup: f64, limit: usiz
     (1..=limit).find(|&t| predict(costs, mode, t).speedup >= speedup)
 }
 
-/// A real run of one mode, for checking the model against.
+/// Real runs of one mode at one thread count, for checking the model against.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Measured {
     /// The mode.
     pub mode: Schedule,
     /// Threads.
     pub threads: usize,
-    /// Median seconds over the runs.
+    /// Median seconds over the rounds.
     pub seconds: f64,
-    /// Load imbalance of the median run (see [`Rendered::imbalance`]).
+    /// Median over the rounds of the serial run's time ÷ this run's, both of the same round.
+    pub speedup: f64,
+    /// Median load imbalance (see [`Rendered::imbalance`]).
     pub imbalance: f64,
 }
 
-/// Renders `job` with `mode` on `threads` threads `runs` times; the median run.
-pub fn measure(job: &RenderJob, tile: u32, mode: Schedule, threads: usize, runs: usize) -> Measured {
-    let seed = job.settings.seed;
-    let mut timed: Vec<(f64, f64)> = (0..runs.max(1))
-        .map(|_| {
-            let rng = RngSource::PerSample(PerSample { seed });
-            let frame = Arc::new(Frame::new(job.clone(), rng, threads, tile, Arc::new(|_| {})));
-            let start = Instant::now();
-            let rendered: Rendered = render(&frame, &mode);
-            (start.elapsed().as_secs_f64(), rendered.imbalance())
+/// Renders `job` serially and with every modelled mode at each of `threads`, in `rounds`
+/// rounds that each run every configuration once (so a shared machine's drift over minutes
+/// hits them alike). Returns the serial run's median seconds and each configuration's
+/// figures, speedups as medians of per-round ratios.
+pub fn measure_rounds(job: &RenderJob, tile: u32, threads: &[usize], rounds: usize) -> (f64, Vec<Measured>) {
+    let configs: Vec<(Schedule, usize)> = std::iter::once((Schedule::Serial, 1))
+        .chain(threads.iter().flat_map(|&t| MODELLED.map(|m| (m, t))))
+        .collect();
+    let mut runs: Vec<Vec<(f64, f64)>> = vec![Vec::new(); configs.len()];
+    for _ in 0..rounds.max(1) {
+        for (&(mode, t), runs) in configs.iter().zip(&mut runs) {
+            runs.push(run_once(job, tile, mode, t));
+        }
+    }
+    let serial: Vec<f64> = runs[0].iter().map(|r| r.0).collect();
+    let measured = configs
+        .iter()
+        .zip(&runs)
+        .skip(1)
+        .map(|(&(mode, threads), runs)| Measured {
+            mode,
+            threads,
+            seconds: median(runs.iter().map(|r| r.0).collect()),
+            speedup: median(serial.iter().zip(runs).map(|(s, r)| s / r.0).collect()),
+            imbalance: median(runs.iter().map(|r| r.1).collect()),
         })
         .collect();
-    timed.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let (seconds, imbalance) = timed[timed.len() / 2];
-    Measured { mode, threads: if mode == Schedule::Serial { 1 } else { threads }, seconds, imbalance }
+    (median(serial), measured)
+}
+
+/// One render of `job` with `mode` on `threads` threads: (seconds, imbalance).
+fn run_once(job: &RenderJob, tile: u32, mode: Schedule, threads: usize) -> (f64, f64) {
+    let rng = RngSource::PerSample(PerSample { seed: job.settings.seed });
+    let frame = Arc::new(Frame::new(job.clone(), rng, threads, tile, Arc::new(|_| {})));
+    let start = Instant::now();
+    let rendered: Rendered = render(&frame, &mode);
+    (start.elapsed().as_secs_f64(), rendered.imbalance())
 }
 
 /// The modes the model predicts, in the speedup table's order (serial is the baseline).
@@ -220,8 +244,8 @@ pub struct Study {
     pub costs: Costs,
     /// Thread counts predicted.
     pub threads: Vec<usize>,
-    /// The measured one-thread (serial) run, if runs were measured.
-    pub serial: Option<Measured>,
+    /// The serial run's median seconds, if runs were measured.
+    pub serial_seconds: Option<f64>,
     /// Measured runs of the modelled modes.
     pub measured: Vec<Measured>,
 }
@@ -244,13 +268,14 @@ impl Study {
             }
         }
         text += "\n  (predicted speedup over serial, and imbalance = busiest ÷ mean worker)\n";
-        for (m, p, measured) in self.validation() {
+        for (m, p) in self.validation() {
             text += &format!(
-                "{:<12}{:>4} threads: predicted {:.2}x, measured {measured:.2}x ({:+.1}%), imbalance predicted {:.2}, measured {:.2}\n",
+                "{:<12}{:>4} threads: predicted {:.2}x, measured {:.2}x ({:+.1}%), imbalance predicted {:.2}, measured {:.2}\n",
                 m.mode.name(),
                 m.threads,
                 p.speedup,
-                (measured / p.speedup - 1.0) * 100.0,
+                m.speedup,
+                (m.speedup / p.speedup - 1.0) * 100.0,
                 p.imbalance,
                 m.imbalance
             );
@@ -258,13 +283,9 @@ impl Study {
         text
     }
 
-    /// Each measured run with its prediction and its measured speedup over the serial run.
-    pub fn validation(&self) -> Vec<(Measured, Prediction, f64)> {
-        let Some(serial) = self.serial else { return Vec::new() };
-        self.measured
-            .iter()
-            .map(|m| (*m, predict(&self.costs, m.mode, m.threads), serial.seconds / m.seconds))
-            .collect()
+    /// Each measured configuration with its prediction.
+    pub fn validation(&self) -> Vec<(Measured, Prediction)> {
+        self.measured.iter().map(|m| (*m, predict(&self.costs, m.mode, m.threads))).collect()
     }
 }
 
@@ -279,21 +300,25 @@ pub fn write_report(dir: &Path, study: &Study) -> Result<(), Error> {
     for mode in MODELLED {
         for &t in &study.threads {
             let p = predict(&study.costs, mode, t);
-            let m = study.validation().into_iter().find(|(m, _, _)| m.mode == mode && m.threads == t);
-            let (ms, mi) = m.map_or((String::new(), String::new()), |(m, _, s)| {
-                (format!("{s:.4}"), format!("{:.4}", m.imbalance))
+            let m = study.measured.iter().find(|m| m.mode == mode && m.threads == t);
+            let (ms, mi) = m.map_or((String::new(), String::new()), |m| {
+                (format!("{:.4}", m.speedup), format!("{:.4}", m.imbalance))
             });
             csv += &format!("{},{t},{:.4},{:.4},{ms},{mi}\n", mode.name(), p.speedup, p.imbalance);
         }
     }
     write_text(&dir.join("scaling.csv"), &csv)?;
-    let validation = study.validation();
     let lines: Vec<ModelLine> = MODELLED
         .iter()
         .map(|&mode| ModelLine {
             label: mode.name().to_string(),
             predicted: study.threads.iter().map(|&t| (t, predict(&study.costs, mode, t).speedup)).collect(),
-            measured: validation.iter().filter(|v| v.0.mode == mode).map(|v| (v.0.threads, v.2)).collect(),
+            measured: study
+                .measured
+                .iter()
+                .filter(|m| m.mode == mode)
+                .map(|m| (m.threads, m.speedup))
+                .collect(),
         })
         .collect();
     let footer = format!("{} — {}", study.command, machine.describe());
@@ -339,21 +364,22 @@ fn markdown(study: &Study, machine: &Machine) -> String {
         (1.0 - costs.tiles.iter().sum::<f64>() / costs.serial()) * 100.0
     );
     md += "\n\n## The model against measured runs\n\n";
-    match study.serial {
+    match study.serial_seconds {
         None => md += "Not measured (run with `--measure`).\n",
         Some(serial) => {
             md += &format!(
-                "Medians of the runs; measured speedup = the serial run's {:.3} s ÷ the mode's. Gap = measured ÷ predicted − 1.\n\n\
-                 | mode | threads | predicted | measured | gap | imbalance predicted | imbalance measured |\n|---|---:|---:|---:|---:|---:|---:|\n",
-                serial.seconds
+                "Rounds that each run serial and every mode once; measured speedup = the median over rounds of serial ÷ \
+                 the mode (serial's median: {serial:.3} s). Gap = measured ÷ predicted − 1.\n\n\
+                 | mode | threads | predicted | measured | gap | imbalance predicted | imbalance measured |\n|---|---:|---:|---:|---:|---:|---:|\n"
             );
-            for (m, p, s) in study.validation() {
+            for (m, p) in study.validation() {
                 md += &format!(
-                    "| `{}` | {} | {:.2}× | {s:.2}× | {:+.1}% | {:.2} | {:.2} |\n",
+                    "| `{}` | {} | {:.2}× | {:.2}× | {:+.1}% | {:.2} | {:.2} |\n",
                     m.mode.name(),
                     m.threads,
                     p.speedup,
-                    (s / p.speedup - 1.0) * 100.0,
+                    m.speedup,
+                    (m.speedup / p.speedup - 1.0) * 100.0,
                     p.imbalance,
                     m.imbalance
                 );
