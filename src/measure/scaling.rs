@@ -33,7 +33,6 @@ use crate::schedule::frame::{Frame, RngSource};
 use crate::schedule::modes::{Rendered, Schedule, render};
 use crate::tracer::render::RenderJob;
 use crate::tracer::sampler::PerSample;
-use crate::tracer::tile::Tile;
 
 /// Seconds each unit of work took on one thread.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,21 +52,26 @@ impl Costs {
 
 /// Renders `job` on the calling thread by rows and by tiles of `tile` pixels, `passes` times
 /// each, timing each row and tile; a unit's cost is its median over the passes (one pass
-/// on a shared machine catches another process's bursts in a few units).
+/// on a shared machine catches another process's bursts in a few units). Row and tile passes
+/// alternate, so a slow minute of the machine weighs on both alike.
 pub fn measure_costs(job: RenderJob, tile: u32, passes: usize) -> Costs {
     let seed = job.settings.seed;
     let frame = Frame::new(job, RngSource::PerSample(PerSample { seed }), 1, tile, Arc::new(|_| {}));
-    let time = |units: Vec<Tile>| -> Vec<f64> {
-        let mut samples: Vec<Vec<f64>> = vec![Vec::new(); units.len()];
-        for _ in 0..passes.max(1) {
-            for (unit, times) in units.iter().zip(&mut samples) {
+    let (rows, tiles) = (frame.rows(), frame.tiles());
+    let mut row_times: Vec<Vec<f64>> = vec![Vec::new(); rows.len()];
+    let mut tile_times: Vec<Vec<f64>> = vec![Vec::new(); tiles.len()];
+    for _ in 0..passes.max(1) {
+        for (units, times) in [(&rows, &mut row_times), (&tiles, &mut tile_times)] {
+            for (unit, times) in units.iter().zip(times.iter_mut()) {
                 let out = frame.render(*unit);
                 times.push(out.timing.map_or(0.0, |t| (t.end - t.start).as_secs_f64()));
             }
         }
-        samples.into_iter().map(median).collect()
-    };
-    Costs { rows: time(frame.rows()), tiles: time(frame.tiles()) }
+    }
+    Costs {
+        rows: row_times.into_iter().map(median).collect(),
+        tiles: tile_times.into_iter().map(median).collect(),
+    }
 }
 
 fn median(mut values: Vec<f64>) -> f64 {
