@@ -50,6 +50,9 @@ pub enum Command {
     /// Predict every scheduler's speedup at many thread counts from one single-thread render,
     /// and with --measure check the prediction against real runs on this machine.
     Simulate(SimulateArgs),
+    /// Watch the workers render, live, in a browser: serves a page on 127.0.0.1 and prints its
+    /// address as the first line of stdout.
+    View(ViewArgs),
     /// List the built-in scenes.
     Scenes,
     /// Measure every mode at 1…2×CPUs threads on the benchmark scenes; write tables and plots.
@@ -168,6 +171,29 @@ pub struct RenderArgs {
     pub out: PathBuf,
 }
 
+/// Options of `raypool view` (and of each render the page asks for).
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// The scene, image size and sampling (--spp: the samples the passes accumulate up to).
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Worker threads [default: the number of CPUs].
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
+    pub threads: Option<u32>,
+    /// Scheduler (see `raypool render --help`).
+    #[arg(long, value_enum, default_value_t = Schedule::Stealing)]
+    pub mode: Schedule,
+    /// Random numbers: per-sample streams, or one generator behind a lock (the paper's rand()).
+    #[arg(long, value_enum, default_value_t = RngChoice::PerSample)]
+    pub rng: RngChoice,
+    /// Port to serve on; 0 takes a free one.
+    #[arg(long, default_value_t = 0)]
+    pub port: u16,
+    /// Address to serve on instead of 127.0.0.1 (e.g. 0.0.0.0 exposes the viewer to the network).
+    #[arg(long, value_name = "ADDR")]
+    pub bind: Option<std::net::IpAddr>,
+}
+
 /// Options of `raypool simulate`.
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
@@ -210,7 +236,7 @@ pub enum AccelChoice {
 
 impl AccelChoice {
     /// The scene with this method applied.
-    fn apply(self, scene: Scene) -> Scene {
+    pub fn apply(self, scene: Scene) -> Scene {
         match self {
             AccelChoice::Auto => scene,
             AccelChoice::Flat => scene.with_accel(Accel::Flat),
@@ -234,9 +260,21 @@ pub enum RngChoice {
 /// Samples per pixel of the paper table that `raypool bench --quick` writes.
 const QUICK_PAPER_SPP: u32 = 2;
 
-/// Runs one parsed command line.
+/// clap's error as one line: the problem (its first paragraph), without the usage block.
+pub fn one_line(e: &clap::Error) -> String {
+    // clap names the problem in its first paragraph (one line, or a line ending in ':'
+    // followed by the missing arguments); a usage block follows. Keep the paragraph.
+    let text = e.render().to_string();
+    let problem: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
+    let problem = problem.join(" ");
+    let problem = problem.trim_start_matches("error: ");
+    if problem.is_empty() { "invalid command line".to_string() } else { problem.to_string() }
+}
+
+/// Runs one parsed command line (all but `view`, which the viewer layer runs: see `main.rs`).
 pub fn run(cli: Cli) -> Result<(), Error> {
     match cli.command {
+        Command::View(_) => Err(Error::new("raypool view is run by raypool::view::run")),
         Command::Render(args) => render_command(&args),
         Command::Merge { parts, out } => merge_command(&parts, &out),
         Command::Simulate(args) => simulate_command(&args),
@@ -466,7 +504,7 @@ fn spp_summary(settings: &RenderSettings, samples: u64, pixels: usize) -> String
 }
 
 /// The render settings the flags ask for.
-fn render_settings(args: &ImageArgs, height: u32) -> Result<RenderSettings, Error> {
+pub fn render_settings(args: &ImageArgs, height: u32) -> Result<RenderSettings, Error> {
     let adaptive = match args.target_error {
         Some(target_error) if args.min_spp > args.max_spp => {
             return Err(Error::new(format!(
@@ -498,7 +536,8 @@ fn positive_fraction(text: &str) -> Result<f64, String> {
     }
 }
 
-fn default_threads() -> usize {
+/// The number of CPUs this process may use.
+pub fn default_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 

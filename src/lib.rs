@@ -11,6 +11,7 @@
 //! | [`schedule`] | who renders which tile: [`schedule::frame`] (a render in progress), the [`schedule::modes`] and the [`schedule::conformance`] check |
 //! | [`measure`] | the [`measure::speedup`] benchmark, error ([`measure::compare`], [`measure::convergence`]), [`measure::stress`] cases, [`measure::plot`]s, [`measure::machine`] labels |
 //! | [`cli`] | the `raypool` command |
+//! | [`view`] | `raypool view`: the live viewer in the browser (its server, its render session, its page) |
 //!
 //! [`scenes`] and [`files`] sit side by side: neither uses the other.
 //! The types most programs need are re-exported here: `raypool::{SceneFile, RenderJob, Frame, Scheduler, …}`.
@@ -25,6 +26,7 @@ pub mod files;
 pub mod schedule;
 pub mod measure;
 pub mod cli;
+pub mod view;
 
 pub use error::Error;
 pub use files::image::Image;

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use clap::error::ErrorKind;
-use raypool::cli::{Cli, run};
+use raypool::cli::{Cli, Command, one_line, run};
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {
@@ -15,17 +15,15 @@ fn main() -> ExitCode {
             return ExitCode::SUCCESS;
         }
         Err(e) => {
-            // clap names the problem in its first paragraph (one line, or a line ending in ':'
-            // followed by the missing arguments); a usage block follows. Keep the paragraph.
-            let text = e.render().to_string();
-            let problem: Vec<&str> = text.lines().map(str::trim).take_while(|l| !l.is_empty()).collect();
-            let problem = problem.join(" ");
-            let problem = if problem.is_empty() { "invalid command line" } else { &problem };
-            eprintln!("raypool: error: {}", problem.trim_start_matches("error: "));
+            eprintln!("raypool: error: {}", one_line(&e));
             return ExitCode::from(2);
         }
     };
-    match run(cli) {
+    let outcome = match cli.command {
+        Command::View(args) => raypool::view::run(args),
+        command => run(Cli { command }),
+    };
+    match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("raypool: error: {e}");

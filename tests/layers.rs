@@ -11,8 +11,16 @@ use std::path::Path;
 
 /// The layers, lowest first. A module may use its own folder and any folder of a lower rank.
 /// `scenes` and `files` share a rank: neither may use the other.
-const LAYERS: &[(&str, u32)] =
-    &[("error", 0), ("tracer", 1), ("scenes", 2), ("files", 2), ("schedule", 3), ("measure", 4), ("cli", 5)];
+const LAYERS: &[(&str, u32)] = &[
+    ("error", 0),
+    ("tracer", 1),
+    ("scenes", 2),
+    ("files", 2),
+    ("schedule", 3),
+    ("measure", 4),
+    ("cli", 5),
+    ("view", 6),
+];
 
 /// The only files that may sit directly in `src/` (besides the layer folders).
 const TOP_FILES: &[&str] = &["lib.rs", "main.rs", "error.rs", "cli.rs"];

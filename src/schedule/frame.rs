@@ -1,7 +1,9 @@
 //! A frame being rendered: what every scheduler receives, and the only way it renders.
 //!
 //! A [`Frame`] bundles the render job, the random source, the thread count and tile size a
-//! scheduler should use, and the progress callback. It is cheap to share (`Arc<Frame>`) and
+//! scheduler should use, and the progress callback; optionally a shard (which tiles), a
+//! progressive pass (which samples, added to running sums), a cancel flag and a hook that sees
+//! every finished tile. It is cheap to share (`Arc<Frame>`) and
 //! `'static`, so it can travel into thread-pool jobs. [`Frame::render`] renders one tile with
 //! the one render loop and notes which thread rendered it and when, so load imbalance and
 //! timelines are measured the same way for every scheduler, a student's included.
@@ -10,6 +12,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::files::image::Image;
+use crate::schedule::progressive::{Cancel, Pass};
 use crate::tracer::render::{RenderJob, TileOutput, TileTiming, render_tile};
 use crate::tracer::sampler::{PerSample, SharedRng};
 use crate::tracer::tile::{Shard, Tile};
@@ -29,6 +32,9 @@ pub enum RngSource {
 /// Reports progress: called with the number of pixels just finished, from any thread.
 pub type Progress = Arc<dyn Fn(u64) + Send + Sync>;
 
+/// Sees every tile the moment it is finished (with its timing), from the rendering thread.
+pub type TileHook = Arc<dyn Fn(&TileOutput) + Send + Sync>;
+
 /// One render in progress, as handed to a [`Scheduler`](crate::schedule::modes::Scheduler).
 #[derive(Clone)]
 pub struct Frame {
@@ -39,6 +45,9 @@ pub struct Frame {
     /// Side of the square tiles that [`Frame::tiles`] cuts, in pixels.
     pub tile_size: u32,
     shard: Shard,
+    pass: Option<Pass>,
+    cancel: Option<Cancel>,
+    on_tile: Option<TileHook>,
     progress: Progress,
     epoch: Instant,
 }
@@ -52,6 +61,9 @@ impl Frame {
             threads: threads.max(1),
             tile_size: tile_size.max(1),
             shard: Shard::WHOLE,
+            pass: None,
+            cancel: None,
+            on_tile: None,
             progress,
             epoch: Instant::now(),
         }
@@ -76,6 +88,26 @@ impl Frame {
     /// [`Shard`]), and [`Frame::rows`] and [`Frame::tiles`] hand out only its pixels.
     pub fn sharded(mut self, shard: Shard) -> Frame {
         self.shard = shard;
+        self
+    }
+
+    /// The same frame as one progressive pass: each tile adds the pass's samples to its
+    /// running sums instead of rendering from nothing (see [`Pass`]).
+    pub fn with_pass(mut self, pass: Pass) -> Frame {
+        self.pass = Some(pass);
+        self
+    }
+
+    /// The same frame, stopped by `cancel`: once it is cancelled, tiles not yet started
+    /// return at once, unrendered (black, no rays, no timing), and the hook does not see them.
+    pub fn with_cancel(mut self, cancel: Cancel) -> Frame {
+        self.cancel = Some(cancel);
+        self
+    }
+
+    /// The same frame, calling `hook` with every tile as soon as it is rendered.
+    pub fn with_tile_hook(mut self, hook: TileHook) -> Frame {
+        self.on_tile = Some(hook);
         self
     }
 
@@ -116,14 +148,23 @@ impl Frame {
 
     /// Renders `tile` on the calling thread and reports its pixels as progress.
     pub fn render(&self, tile: Tile) -> TileOutput {
+        if self.cancel.as_ref().is_some_and(Cancel::is_cancelled) {
+            let pixels = vec![Default::default(); tile.area()];
+            return TileOutput { tile, pixels, rays: 0, samples: 0, timing: None };
+        }
         let start = self.epoch.elapsed();
-        let mut out = match &self.rng {
-            RngSource::PerSample(streams) => render_tile(&self.job, streams, tile),
-            RngSource::Shared(shared) => render_tile(&self.job, shared.as_ref(), tile),
+        let mut out = match (&self.pass, &self.rng) {
+            (None, RngSource::PerSample(streams)) => render_tile(&self.job, streams, tile),
+            (None, RngSource::Shared(shared)) => render_tile(&self.job, shared.as_ref(), tile),
+            (Some(pass), RngSource::PerSample(streams)) => pass.render(&self.job, streams, tile),
+            (Some(pass), RngSource::Shared(shared)) => pass.render(&self.job, shared.as_ref(), tile),
         };
         out.timing =
             Some(TileTiming { thread: std::thread::current().id(), start, end: self.epoch.elapsed() });
         (self.progress)(tile.area() as u64);
+        if let Some(hook) = &self.on_tile {
+            hook(&out);
+        }
         out
     }
 

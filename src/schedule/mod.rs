@@ -1,7 +1,8 @@
 //! **Scheduling: who renders which tile.** A [`frame::Frame`] is a render in progress and the
 //! only way to render a tile; [`modes`] holds the [`modes::Scheduler`] trait and the six
 //! built-in ways to share a frame's tiles among threads (static blocks, interleaved rows, the
-//! two pools, stealing); [`conformance`] is the check a student's scheduler must pass.
+//! two pools, stealing); [`progressive`] refines an image pass after pass, cancellably, on
+//! any of them; [`conformance`] is the check a student's scheduler must pass.
 //!
 //! It may use [`crate::tracer`], [`crate::files`] (a frame is assembled into an
 //! [`crate::files::image::Image`]), [`crate::scenes`] (the conformance check renders a built-in
@@ -9,4 +10,5 @@
 
 pub mod frame;
 pub mod modes;
+pub mod progressive;
 pub mod conformance;

@@ -195,41 +195,88 @@ impl RenderJob {
 
 /// Renders every pixel of `tile`, drawing each sample's random numbers from `streams`.
 pub fn render_tile<S: RandomStreams>(job: &RenderJob, streams: &S, tile: Tile) -> TileOutput {
-    let width = job.settings.width;
-    let mut pixels = Vec::with_capacity(tile.area());
-    let (mut rays, mut samples) = (0, 0);
-    for j in tile.y..tile.y + tile.height {
-        for i in tile.x..tile.x + tile.width {
-            let pixel = j as u64 * width as u64 + i as u64;
-            let (value, taken) = render_pixel(job, streams, (i, j), pixel, &mut rays);
-            pixels.push(value);
-            samples += u64::from(taken);
-        }
-    }
-    TileOutput { tile, pixels, rays, samples, timing: None }
+    let mut sums = PixelSums::new(tile.area());
+    let rays = accumulate_tile(job, streams, tile, 0..job.settings.spp, &mut sums);
+    TileOutput { tile, pixels: sums.means(), rays, samples: sums.samples(), timing: None }
 }
 
-/// The mean of pixel `(i, j)`'s samples and their number: `spp` of them, or as many as
-/// adaptive sampling asks for.
-fn render_pixel<S: RandomStreams>(
+/// The running sums of a tile's pixels: each pixel's sample sum (f64) and sample count.
+///
+/// The sum is f64, as pbrt's film: in f32 a sum of 2^20 samples near 0.4 is near 4·10⁵, where
+/// f32's spacing is 0.03, and every sample added is rounded to it (measured: up to 1.3·10⁻³
+/// relative at 2^20 samples, `results/accumulation.md`). Samples are always added in sample
+/// order, so a pixel's mean after `n` samples is the same bits however many passes added them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PixelSums {
+    sums: Vec<DVec3>,
+    counts: Vec<u32>,
+}
+
+impl PixelSums {
+    /// `pixels` pixels with no samples yet.
+    pub fn new(pixels: usize) -> PixelSums {
+        PixelSums { sums: vec![DVec3::ZERO; pixels], counts: vec![0; pixels] }
+    }
+
+    /// Each pixel's mean (black before its first sample).
+    pub fn means(&self) -> Vec<Vec3> {
+        self.sums.iter().zip(&self.counts).map(|(&s, &n)| from_dvec3(s / f64::from(n.max(1)))).collect()
+    }
+
+    /// Samples taken, all pixels together.
+    pub fn samples(&self) -> u64 {
+        self.counts.iter().map(|&n| u64::from(n)).sum()
+    }
+}
+
+/// Adds samples number `samples` (for example `0..1`, then `1..4`) of every pixel of `tile` to
+/// `sums` (the tile's pixels, row-major), drawing from `streams`; returns the rays cast. This
+/// is the one render loop: [`render_tile`] is one call of it for `0..spp`, and the viewer's
+/// progressive passes are successive calls.
+///
+/// Adaptive sampling judges a pixel on the samples of this call, so with
+/// [`RenderSettings::adaptive`] it must add them all in one call starting at 0.
+///
+/// # Panics
+/// If `sums` does not hold `tile.area()` pixels.
+pub fn accumulate_tile<S: RandomStreams>(
+    job: &RenderJob,
+    streams: &S,
+    tile: Tile,
+    samples: std::ops::Range<u32>,
+    sums: &mut PixelSums,
+) -> u64 {
+    assert_eq!(sums.sums.len(), tile.area(), "one running sum per pixel of the tile");
+    let width = job.settings.width as u64;
+    let mut rays = 0;
+    let pixels =
+        (tile.y..tile.y + tile.height).flat_map(|j| (tile.x..tile.x + tile.width).map(move |i| (i, j)));
+    for (((i, j), sum), count) in pixels.zip(&mut sums.sums).zip(&mut sums.counts) {
+        let pixel = j as u64 * width + i as u64;
+        *count += accumulate_pixel(job, streams, (i, j), pixel, samples.clone(), sum, &mut rays);
+    }
+    rays
+}
+
+/// Adds samples `samples` of pixel `(i, j)` to `sum` (all of them, or until adaptive sampling
+/// says the pixel is done); returns how many it added.
+fn accumulate_pixel<S: RandomStreams>(
     job: &RenderJob,
     streams: &S,
     (i, j): (u32, u32),
     pixel: u64,
+    samples: std::ops::Range<u32>,
+    sum: &mut DVec3,
     rays: &mut u64,
-) -> (Vec3, u32) {
+) -> u32 {
     let settings = &job.settings;
-    // The running sum is f64, as pbrt's film: in f32 a sum of 2^20 samples near 0.4 is near
-    // 4·10⁵, where f32's spacing is 0.03, and every sample added is rounded to it
-    // (measured: up to 1.3·10⁻³ relative at 2^20 samples, `results/accumulation.md`).
-    let mut sum = DVec3::ZERO;
     let mut stats = LuminanceStats::default();
     let mut taken = 0;
-    while taken < settings.spp {
-        let mut rng = streams.stream(pixel, taken as u64);
+    for sample in samples {
+        let mut rng = streams.stream(pixel, sample as u64);
         let ray = job.camera.ray(i, j, &mut rng);
         let value = trace(&job.scene, ray, settings, &mut rng, rays);
-        sum += to_dvec3(value);
+        *sum += to_dvec3(value);
         taken += 1;
         if let Some(adaptive) = &settings.adaptive {
             stats.push(luminance(value));
@@ -238,7 +285,7 @@ fn render_pixel<S: RandomStreams>(
             }
         }
     }
-    (from_dvec3(sum / f64::from(taken)), taken)
+    taken
 }
 
 /// The radiance arriving along `ray`: the book's `ray_color`, as a loop. A path casts at

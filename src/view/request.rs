@@ -1,0 +1,119 @@
+//! A render request, checked exactly as the command line checks it.
+//!
+//! The page asks for a render with `POST /render?mode=steal&threads=2&width=400&…`. Each query
+//! parameter `name=value` becomes the flag `--name value` and the whole list is parsed by the
+//! same clap definition as `raypool view`'s own flags, so a request gets the command line's
+//! limits (sizes ≤ 16384, threads ≤ 4096, …) and its one-line messages. Two parameters are the
+//! page's own: `lookfrom=x,y,z` (the orbiting camera) and a pasted scene in the body.
+//! Parameters that would reach outside the page are refused: `scene-file` (a path on the
+//! server), `port`, `bind`, and adaptive sampling, which progressive passes do not do.
+
+use clap::Parser;
+
+use crate::cli::{RngChoice, ViewArgs, default_threads, load_scene, one_line, render_settings};
+use crate::error::Error;
+use crate::scenes::format::SceneFile;
+use crate::tracer::render::{RenderJob, default_height};
+use crate::view::session::Config;
+
+/// Largest pasted scene, bytes.
+pub const MAX_PASTED_SCENE: usize = 1 << 20;
+
+/// What `raypool view`'s flags parse into, for parsing a request the same way.
+#[derive(Debug, Parser)]
+#[command(name = "view")]
+struct ViewRequest {
+    #[command(flatten)]
+    args: ViewArgs,
+}
+
+/// Flags a request may not carry, with the reason.
+const REFUSED: &[(&str, &str)] = &[
+    ("scene-file", "the page cannot read files on the server: paste the scene instead"),
+    ("port", "the port is chosen when the server starts"),
+    ("bind", "the address is chosen when the server starts"),
+    ("target-error", "the viewer renders progressive passes, not adaptive sampling"),
+    ("min-spp", "the viewer renders progressive passes, not adaptive sampling"),
+    ("max-spp", "the viewer renders progressive passes, not adaptive sampling"),
+];
+
+/// Parses a request's query string and body into a render [`Config`].
+pub fn parse(query: &str, body: &str) -> Result<Config, Error> {
+    let mut argv = vec!["view".to_string()];
+    let mut lookfrom = None;
+    for (name, value) in form_urlencoded::parse(query.as_bytes()) {
+        if let Some((_, why)) = REFUSED.iter().find(|(refused, _)| *refused == name) {
+            return Err(Error::new(format!("'{name}' cannot be set by a request: {why}")));
+        }
+        match name.as_ref() {
+            "lookfrom" => lookfrom = Some(point(&value)?),
+            "roulette" => match value.as_ref() {
+                "true" | "1" | "on" => argv.push("--roulette".into()),
+                "false" | "0" | "off" => {}
+                other => return Err(Error::new(format!("roulette must be true or false, not '{other}'"))),
+            },
+            _ => argv.extend([format!("--{name}"), value.into_owned()]),
+        }
+    }
+    let request = ViewRequest::try_parse_from(&argv).map_err(|e| Error::new(one_line(&e)))?;
+    let pasted = (!body.trim().is_empty()).then_some(body);
+    config(&request.args, pasted, lookfrom)
+}
+
+/// The render `args` ask for, of the pasted scene if any, seen from `lookfrom` if given.
+pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>) -> Result<Config, Error> {
+    let image = &args.image;
+    let (name, mut scene) = match (pasted, &image.scene_file) {
+        (Some(text), _) => ("pasted scene".to_string(), SceneFile::parse(text, "pasted scene")?),
+        (None, Some(path)) => (path.display().to_string(), load_scene(image)?),
+        (None, None) => (image.scene.clone(), load_scene(image)?),
+    };
+    if let Some(eye) = lookfrom {
+        move_camera(&mut scene, eye)?;
+    }
+    let height = match image.height {
+        Some(h) => h,
+        None => default_height(image.width, scene.camera.aspect)?,
+    };
+    let settings = render_settings(image, height)?;
+    if settings.adaptive.is_some() {
+        return Err(Error::new("the viewer renders progressive passes, not adaptive sampling"));
+    }
+    Ok(Config {
+        name,
+        job: RenderJob::new(image.accel.apply(scene.to_scene()), settings).into(),
+        scene,
+        threads: args.threads.map_or_else(default_threads, |t| t as usize),
+        mode: args.mode,
+        tile: image.tile,
+        shared_rng: args.rng == RngChoice::Shared,
+    })
+}
+
+/// Puts the eye at `eye`, keeping what it looks at and the focus at the same relative depth.
+fn move_camera(scene: &mut SceneFile, eye: [f64; 3]) -> Result<(), Error> {
+    let c = &mut scene.camera;
+    let distance = |p: [f64; 3]| (0..3).map(|k| (p[k] - c.lookat[k]).powi(2)).sum::<f64>().sqrt();
+    let (before, after) = (distance(c.lookfrom), distance(eye));
+    if after == 0.0 {
+        return Err(Error::new(format!(
+            "lookfrom {eye:?} is the camera's look-at point: it would look nowhere"
+        )));
+    }
+    if before > 0.0 && after.is_finite() {
+        c.focus_dist *= after / before;
+    }
+    c.lookfrom = eye;
+    scene.validate().map_err(|e| Error::new(format!("lookfrom: {e}")))
+}
+
+/// `x,y,z` as three finite numbers.
+fn point(text: &str) -> Result<[f64; 3], Error> {
+    let bad = || Error::new(format!("lookfrom must be three finite numbers x,y,z, not '{text}'"));
+    let numbers: Vec<f64> =
+        text.split(',').map(|v| v.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| bad())?;
+    match numbers[..] {
+        [x, y, z] if numbers.iter().all(|v| v.is_finite()) => Ok([x, y, z]),
+        _ => Err(bad()),
+    }
+}

@@ -1,0 +1,288 @@
+//! The render session: one progressive render at a time, on our own pool, its events fanned
+//! out to every page that listens.
+//!
+//! [`Session::restart`] cancels the running render (its jobs see the cancel flag before their
+//! next tile, so it stops within one tile's time), waits for its thread, and starts the new
+//! one. The render thread runs passes of 1, 1, 2, 4, … samples per pixel (so 1, 2, 4, 8, …
+//! accumulated) up to `--spp`, each pass one batch of tiles on the chosen scheduler; every
+//! finished tile becomes an event for the pages, and every finished pass becomes the image that
+//! `/image.pfm` serves, which is the image `raypool render` makes at that many samples.
+//!
+//! Invariants: at most one render thread runs; events of an old render carry its generation
+//! number, so a page ignores stragglers; a page that cannot keep up (its queue full) or has
+//! gone is dropped, never waited for.
+
+use std::sync::Arc;
+use std::thread::{JoinHandle, ThreadId};
+use std::time::Instant;
+
+use base64::Engine as _;
+use crossbeam_channel::{Receiver, Sender};
+use parking_lot::Mutex;
+use serde_json::json;
+
+use crate::files::image::Image;
+use crate::scenes::format::SceneFile;
+use crate::schedule::frame::{Frame, RngSource};
+use crate::schedule::modes::{Schedule, render};
+use crate::schedule::progressive::{Cancel, Pass, Sums};
+use crate::tracer::render::{RenderJob, TileOutput};
+use crate::tracer::sampler::{PerSample, SharedRng};
+
+/// Events a page may fall behind by before it is dropped.
+const QUEUE: usize = 8192;
+
+/// Everything one render needs, checked: what a request or the command line asked for.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// The scene's name (a built-in's, "pasted", or the file's path).
+    pub name: String,
+    /// The scene as data, camera included (served as `/scene.toml`).
+    pub scene: SceneFile,
+    /// Image size and sampling; `spp` is what the passes accumulate up to.
+    pub job: Arc<RenderJob>,
+    /// Worker threads.
+    pub threads: usize,
+    /// Scheduler.
+    pub mode: Schedule,
+    /// Tile side, pixels.
+    pub tile: u32,
+    /// One generator behind a lock for all threads, instead of per-sample streams.
+    pub shared_rng: bool,
+}
+
+/// The latest finished pass.
+#[derive(Clone, Debug)]
+pub struct Snapshot {
+    /// Which render it belongs to.
+    pub generation: u64,
+    /// Samples per pixel accumulated.
+    pub spp: u32,
+    /// The image after them.
+    pub image: Image,
+}
+
+struct Current {
+    generation: u64,
+    config: Arc<Config>,
+    cancel: Cancel,
+    thread: Option<JoinHandle<()>>,
+}
+
+/// The viewer's one render at a time and the pages listening to it.
+pub struct Session {
+    current: Mutex<Current>,
+    /// Serialises restarts, so two requests cannot both start a render.
+    restarting: Mutex<()>,
+    latest: Mutex<Option<Snapshot>>,
+    pages: Mutex<Pages>,
+}
+
+/// The pages listening, and what a page that joins late is told first.
+#[derive(Default)]
+struct Pages {
+    senders: Vec<Sender<Arc<str>>>,
+    /// The running render's `start`, its latest `pass` and its `done`, as sent.
+    start: Option<Arc<str>>,
+    last_pass: Option<Arc<str>>,
+    done: Option<Arc<str>>,
+}
+
+impl Session {
+    /// A session that starts rendering `config` at once.
+    pub fn start(config: Config) -> Arc<Session> {
+        let session = Arc::new(Session {
+            current: Mutex::new(Current {
+                generation: 0,
+                config: Arc::new(config.clone()),
+                cancel: Cancel::default(),
+                thread: None,
+            }),
+            restarting: Mutex::new(()),
+            latest: Mutex::new(None),
+            pages: Mutex::new(Pages::default()),
+        });
+        session.restart(config);
+        session
+    }
+
+    /// Cancels the running render and starts `config`; returns the new generation number.
+    pub fn restart(self: &Arc<Session>, config: Config) -> u64 {
+        let _one_at_a_time = self.restarting.lock();
+        let old = {
+            let mut current = self.current.lock();
+            current.cancel.cancel();
+            current.thread.take()
+        };
+        if let Some(thread) = old {
+            let _ = thread.join();
+        }
+        let mut current = self.current.lock();
+        let (generation, config, cancel) = (current.generation + 1, Arc::new(config), Cancel::default());
+        let thread = {
+            let (session, config, cancel) = (Arc::clone(self), Arc::clone(&config), cancel.clone());
+            std::thread::Builder::new()
+                .name("raypool-view-render".into())
+                .spawn(move || session.render_passes(generation, &config, &cancel))
+                .expect("a thread starts")
+        };
+        *current = Current { generation, config, cancel, thread: Some(thread) };
+        generation
+    }
+
+    /// Cancels the running render and waits for it (Ctrl-C); pages' streams end.
+    pub fn stop(&self) {
+        let _one_at_a_time = self.restarting.lock();
+        let thread = {
+            let mut current = self.current.lock();
+            current.cancel.cancel();
+            current.thread.take()
+        };
+        if let Some(thread) = thread {
+            let _ = thread.join();
+        }
+        self.pages.lock().senders.clear();
+    }
+
+    /// The running render's settings and generation.
+    pub fn current(&self) -> (u64, Arc<Config>) {
+        let current = self.current.lock();
+        (current.generation, Arc::clone(&current.config))
+    }
+
+    /// The latest finished pass of the running render, if one has finished.
+    pub fn latest(&self) -> Option<Snapshot> {
+        let generation = self.current.lock().generation;
+        self.latest.lock().clone().filter(|s| s.generation == generation)
+    }
+
+    /// A new page's event stream. It starts with what the page missed of the running render:
+    /// its `start`, a `frame` with the image of its latest pass, that `pass`, and `done`.
+    pub fn subscribe(&self) -> Receiver<Arc<str>> {
+        let (tx, rx) = crossbeam_channel::bounded(QUEUE);
+        let mut pages = self.pages.lock(); // no event goes out between the replay and the joining
+        let frame = pages.last_pass.as_ref().and_then(|_| self.latest()).map(|s| frame_event(&s));
+        let replay =
+            [pages.start.clone(), frame.map(Into::into), pages.last_pass.clone(), pages.done.clone()];
+        for event in replay.into_iter().flatten() {
+            let _ = tx.try_send(event);
+        }
+        pages.senders.push(tx);
+        rx
+    }
+
+    /// Sends `event` (of type `kind`) to every page; drops pages that are gone or too far
+    /// behind, and remembers what a late page must be told.
+    fn broadcast(&self, kind: &str, event: String) {
+        let event: Arc<str> = event.into();
+        let mut pages = self.pages.lock();
+        match kind {
+            "start" => (pages.start, pages.last_pass, pages.done) = (Some(Arc::clone(&event)), None, None),
+            "pass" => pages.last_pass = Some(Arc::clone(&event)),
+            "done" => pages.done = Some(Arc::clone(&event)),
+            _ => {}
+        }
+        pages.senders.retain(|page| page.try_send(Arc::clone(&event)).is_ok());
+    }
+
+    /// The render thread: passes until `spp` samples or a cancel.
+    fn render_passes(self: &Arc<Session>, generation: u64, config: &Config, cancel: &Cancel) {
+        self.broadcast("start", start_event(generation, config));
+        let settings = config.job.settings;
+        let sums = Sums::default();
+        let rng = if config.shared_rng {
+            RngSource::Shared(Arc::new(SharedRng::new(settings.seed)))
+        } else {
+            RngSource::PerSample(PerSample { seed: settings.seed })
+        };
+        let started = Instant::now();
+        let (mut done, mut pass) = (0, 0);
+        while done < settings.spp && !cancel.is_cancelled() {
+            let more = if done == 0 { 1 } else { done.min(settings.spp - done) };
+            pass += 1;
+            let lanes: Arc<Mutex<Vec<ThreadId>>> = Arc::default();
+            let hook = {
+                let (session, lanes) = (Arc::clone(self), Arc::clone(&lanes));
+                Arc::new(move |out: &TileOutput| {
+                    session.broadcast("tile", tile_event(generation, pass, done + more, out, &lanes))
+                })
+            };
+            let frame =
+                Frame::new((*config.job).clone(), rng.clone(), config.threads, config.tile, Arc::new(|_| {}))
+                    .with_pass(Pass { samples: done..done + more, sums: Arc::clone(&sums) })
+                    .with_cancel(cancel.clone())
+                    .with_tile_hook(hook);
+            let pass_start = Instant::now();
+            let rendered = render(&Arc::new(frame), &config.mode);
+            if cancel.is_cancelled() {
+                return;
+            }
+            done += more;
+            let seconds = pass_start.elapsed().as_secs_f64();
+            *self.latest.lock() = Some(Snapshot { generation, spp: done, image: rendered.image.clone() });
+            self.broadcast(
+                "pass",
+                json!({
+                    "type": "pass", "gen": generation, "pass": pass, "spp": done, "seconds": seconds,
+                    "elapsed": started.elapsed().as_secs_f64(), "rays": rendered.rays,
+                    "mrays": rendered.rays as f64 / seconds.max(1e-9) / 1e6, "imbalance": rendered.imbalance(),
+                })
+                .to_string(),
+            );
+        }
+        if !cancel.is_cancelled() {
+            self.broadcast("done", json!({ "type": "done", "gen": generation, "spp": done }).to_string());
+        }
+    }
+}
+
+/// The event that opens a render: its size, settings and camera (the page orbits from it).
+fn start_event(generation: u64, config: &Config) -> String {
+    let settings = &config.job.settings;
+    json!({
+        "type": "start", "gen": generation, "scene": config.name, "width": settings.width,
+        "height": settings.height, "spp": settings.spp, "threads": config.threads,
+        "mode": config.mode.name(), "tile": config.tile,
+        "rng": if config.shared_rng { "shared" } else { "per-sample" },
+        "lookfrom": config.scene.camera.lookfrom, "lookat": config.scene.camera.lookat,
+    })
+    .to_string()
+}
+
+/// The whole image of a finished pass, for a page that joins late.
+fn frame_event(snapshot: &Snapshot) -> String {
+    let image = &snapshot.image;
+    json!({
+        "type": "frame", "gen": snapshot.generation, "spp": snapshot.spp, "width": image.width,
+        "height": image.height, "rgb": base64::engine::general_purpose::STANDARD.encode(image.to_rgb8()),
+    })
+    .to_string()
+}
+
+/// A finished tile: where, which worker (lanes are numbered in the order workers first
+/// finish a tile of this pass), when (seconds since the pass began), and its pixels as
+/// 8-bit RGB after `spp` samples, base64.
+fn tile_event(
+    generation: u64,
+    pass: u32,
+    spp: u32,
+    out: &TileOutput,
+    lanes: &Mutex<Vec<ThreadId>>,
+) -> String {
+    let Some(timing) = out.timing else { return String::new() };
+    let worker = {
+        let mut lanes = lanes.lock();
+        lanes.iter().position(|&t| t == timing.thread).unwrap_or_else(|| {
+            lanes.push(timing.thread);
+            lanes.len() - 1
+        })
+    };
+    let t = out.tile;
+    let rgb = Image { width: t.width, height: t.height, pixels: out.pixels.clone() }.to_rgb8();
+    json!({
+        "type": "tile", "gen": generation, "pass": pass, "spp": spp, "x": t.x, "y": t.y, "w": t.width,
+        "h": t.height, "worker": worker, "start": timing.start.as_secs_f64(), "end": timing.end.as_secs_f64(),
+        "rgb": base64::engine::general_purpose::STANDARD.encode(rgb),
+    })
+    .to_string()
+}

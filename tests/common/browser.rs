@@ -1,0 +1,142 @@
+//! Headless Chromium, driven over the DevTools protocol (JSON over a WebSocket): open a page,
+//! evaluate JavaScript in it, wait for a condition, take a screenshot. Used by
+//! `tests/browser.rs` and `benches/view.rs`.
+//!
+//! Chromium runs as the probe on this kind of machine runs it: `--headless=new`, `--no-sandbox`
+//! (needed as root), no background networking (the machine's closed network refuses it), and a
+//! fresh profile directory, removed afterwards.
+
+#![allow(dead_code)] // each user needs a different part
+
+use std::io::{BufRead, BufReader};
+use std::net::TcpStream;
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::{Value, json};
+use tungstenite::stream::MaybeTlsStream;
+use tungstenite::{Message, WebSocket};
+
+/// The Chromium binary, if one is installed.
+pub fn chromium() -> Option<PathBuf> {
+    ["chromium", "chromium-browser", "google-chrome"].iter().find_map(|name| {
+        let out = Command::new("sh").args(["-c", &format!("command -v {name}")]).output().ok()?;
+        out.status.success().then(|| PathBuf::from(String::from_utf8_lossy(&out.stdout).trim()))
+    })
+}
+
+/// One headless Chromium with one page open.
+pub struct Browser {
+    child: Child,
+    socket: WebSocket<MaybeTlsStream<TcpStream>>,
+    session: String,
+    next_id: u64,
+    profile: PathBuf,
+}
+
+impl Browser {
+    /// Starts Chromium with a `width × height` window and opens `url`.
+    pub fn open(binary: &PathBuf, url: &str, (width, height): (u32, u32)) -> Browser {
+        let profile =
+            std::env::temp_dir().join(format!("raypool-chromium-{}-{}", std::process::id(), url.len()));
+        let _ = std::fs::remove_dir_all(&profile);
+        let mut child = Command::new(binary)
+            .args([
+                "--headless=new",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--disable-quic",
+                "--no-first-run",
+                "--disable-background-networking",
+                "--disable-component-update",
+                "--disable-sync",
+                "--remote-debugging-port=0",
+                &format!("--user-data-dir={}", profile.display()),
+                &format!("--window-size={width},{height}"),
+                "about:blank",
+            ])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("chromium starts");
+        // Chromium prints its DevTools address on stderr; keep draining it afterwards.
+        let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+        let address = lines
+            .by_ref()
+            .map_while(Result::ok)
+            .find_map(|line| line.split_once("DevTools listening on ").map(|(_, a)| a.trim().to_string()))
+            .expect("chromium prints its DevTools address");
+        std::thread::spawn(move || lines.for_each(drop));
+        let (socket, _) = tungstenite::connect(address.as_str()).expect("DevTools WebSocket connects");
+        if let MaybeTlsStream::Plain(stream) = socket.get_ref() {
+            stream.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
+        }
+        let mut browser = Browser { child, socket, session: String::new(), next_id: 0, profile };
+        let target = browser.call("Target.createTarget", json!({ "url": url }), false);
+        let target = target["targetId"].as_str().expect("a target id").to_string();
+        let attached =
+            browser.call("Target.attachToTarget", json!({ "targetId": target, "flatten": true }), false);
+        browser.session = attached["sessionId"].as_str().expect("a session id").to_string();
+        browser.call(
+            "Emulation.setDeviceMetricsOverride",
+            json!({ "width": width, "height": height, "deviceScaleFactor": 1, "mobile": false }),
+            true,
+        );
+        browser
+    }
+
+    /// Sends a DevTools command (to the page's session when `on_page`) and returns its result.
+    fn call(&mut self, method: &str, params: Value, on_page: bool) -> Value {
+        self.next_id += 1;
+        let mut message = json!({ "id": self.next_id, "method": method, "params": params });
+        if on_page {
+            message["sessionId"] = json!(self.session);
+        }
+        self.socket.send(Message::text(message.to_string())).expect("DevTools accepts a command");
+        loop {
+            let reply = self.socket.read().expect("DevTools answers");
+            let Ok(text) = reply.to_text() else { continue };
+            let reply: Value = serde_json::from_str(text).expect("DevTools speaks JSON");
+            if reply["id"] == json!(self.next_id) {
+                assert!(reply.get("error").is_none(), "{method}: {}", reply["error"]);
+                return reply["result"].clone();
+            }
+        }
+    }
+
+    /// The value of the JavaScript expression `expression` in the page.
+    pub fn eval(&mut self, expression: &str) -> Value {
+        let result = self.call(
+            "Runtime.evaluate",
+            json!({ "expression": expression, "returnByValue": true, "awaitPromise": true }),
+            true,
+        );
+        assert!(result.get("exceptionDetails").is_none(), "{expression}: {}", result["exceptionDetails"]);
+        result["result"]["value"].clone()
+    }
+
+    /// Evaluates `condition` every 50 ms until it is `true`; panics after `limit`.
+    pub fn wait_for(&mut self, condition: &str, limit: Duration) {
+        let start = Instant::now();
+        while self.eval(condition) != json!(true) {
+            assert!(start.elapsed() < limit, "still not true after {limit:?}: {condition}");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+
+    /// The page as it is on screen, PNG.
+    pub fn screenshot(&mut self) -> Vec<u8> {
+        use base64::Engine as _;
+        let shot = self.call("Page.captureScreenshot", json!({ "format": "png" }), true);
+        base64::engine::general_purpose::STANDARD.decode(shot["data"].as_str().unwrap()).unwrap()
+    }
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+        let _ = std::fs::remove_dir_all(&self.profile);
+    }
+}

@@ -1,0 +1,102 @@
+//! A `raypool view` server for a test: started on a free port, its address read from the first
+//! line of its stdout, and an HTTP agent that returns 4xx answers instead of failing on them.
+
+#![allow(dead_code)] // each user needs a different part
+
+use std::io::{BufRead, BufReader, Read};
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use serde_json::Value;
+
+/// A running viewer; killed when dropped.
+pub struct Viewer {
+    pub child: Child,
+    /// `http://127.0.0.1:PORT/`
+    pub url: String,
+    agent: ureq::Agent,
+}
+
+impl Viewer {
+    /// `raypool view --port 0 ARGS…`
+    pub fn start(args: &[&str]) -> Viewer {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_raypool"))
+            .args(["view", "--port", "0"])
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("raypool view starts");
+        let mut first = String::new();
+        BufReader::new(child.stdout.take().unwrap()).read_line(&mut first).unwrap();
+        assert!(first.starts_with("http://127.0.0.1:") && first.ends_with("/\n"), "first line: {first:?}");
+        let config = ureq::Agent::config_builder()
+            .http_status_as_error(false)
+            .timeout_global(Some(Duration::from_secs(60)))
+            .build();
+        Viewer { child, url: first.trim().to_string(), agent: config.into() }
+    }
+
+    /// `GET path`: (status, body).
+    pub fn get(&self, path: &str) -> (u16, Vec<u8>) {
+        let mut response =
+            self.agent.get(format!("{}{}", self.url, path.trim_start_matches('/'))).call().unwrap();
+        let status = response.status().as_u16();
+        (status, response.body_mut().with_config().limit(1 << 30).read_to_vec().unwrap())
+    }
+
+    /// `POST path` with `body`: (status, body as text).
+    pub fn post(&self, path: &str, body: &[u8]) -> (u16, String) {
+        let mut response =
+            self.agent.post(format!("{}{}", self.url, path.trim_start_matches('/'))).send(body).unwrap();
+        (response.status().as_u16(), response.body_mut().read_to_string().unwrap())
+    }
+
+    /// The event stream: each `data:` line as JSON, in order.
+    pub fn events(&self) -> impl Iterator<Item = Value> {
+        let response = self.agent.get(format!("{}events", self.url)).call().unwrap();
+        assert_eq!(response.status().as_u16(), 200);
+        let reader = BufReader::new(response.into_body().into_reader());
+        reader.lines().map_while(Result::ok).filter_map(|line| {
+            line.strip_prefix("data: ").map(|d| serde_json::from_str(d).expect("JSON event"))
+        })
+    }
+
+    /// Names of the server process's threads (`/proc/PID/task/*/comm`).
+    pub fn thread_names(&self) -> Vec<String> {
+        let tasks = std::fs::read_dir(format!("/proc/{}/task", self.child.id())).unwrap();
+        tasks
+            .filter_map(|t| std::fs::read_to_string(t.ok()?.path().join("comm")).ok())
+            .map(|n| n.trim().to_string())
+            .collect()
+    }
+
+    /// What the server wrote on stderr (after it has exited).
+    pub fn stderr(&mut self) -> String {
+        let mut text = String::new();
+        self.child.stderr.take().unwrap().read_to_string(&mut text).unwrap();
+        text
+    }
+}
+
+impl Drop for Viewer {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Reads `events` until the `done` of render `generation`; returns that render's events.
+pub fn until_done(events: &mut impl Iterator<Item = Value>, generation: u64) -> Vec<Value> {
+    let mut seen = Vec::new();
+    for event in events {
+        if event["gen"] == generation {
+            let done = event["type"] == "done";
+            seen.push(event);
+            if done {
+                return seen;
+            }
+        }
+    }
+    panic!("the event stream ended before render {generation} was done")
+}

@@ -1,0 +1,237 @@
+//! `raypool view`, over HTTP: the page, the event stream with tiles from several workers, the
+//! image equal to the command line's byte for byte (before and after a camera move), bad
+//! requests answered with 4xx while the server goes on, cancelled renders that leave no thread
+//! behind, and Ctrl-C.
+
+mod common;
+
+use std::io::{BufRead, BufReader, Write};
+use std::net::TcpStream;
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use common::viewer::{Viewer, until_done};
+use serde_json::Value;
+
+const MINUTE: Duration = Duration::from_secs(60);
+
+/// `raypool render` of the server's current scene with these flags, as PFM bytes.
+fn cli_render(viewer: &Viewer, flags: &[&str]) -> Vec<u8> {
+    let dir = std::env::temp_dir().join(format!("raypool-view-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (status, scene) = viewer.get("/scene.toml");
+    assert_eq!(status, 200);
+    let (scene_path, image_path) = (dir.join("scene.toml"), dir.join("cli.pfm"));
+    std::fs::write(&scene_path, scene).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_raypool"))
+        .args(["render", "--scene-file", scene_path.to_str().unwrap(), "--out", image_path.to_str().unwrap()])
+        .args(flags)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    std::fs::read(image_path).unwrap()
+}
+
+/// The server's image once render `generation` is done (a new event stream replays the
+/// finished render's `done`, so this cannot miss it).
+fn served_image(viewer: &Viewer, generation: u64) -> Vec<u8> {
+    until_done(&mut viewer.events(), generation);
+    let (status, image) = viewer.get("/image.pfm");
+    assert_eq!(status, 200);
+    assert!(image.starts_with(b"PF\n"));
+    image
+}
+
+#[test]
+fn the_page_the_events_and_the_image_of_the_command_line() {
+    let viewer =
+        Viewer::start(&["--scene", "final", "--width", "96", "--spp", "8", "--threads", "3", "--tile", "8"]);
+    let (status, page) = viewer.get("/");
+    assert_eq!(status, 200);
+    let page = String::from_utf8(page).unwrap();
+    assert!(page.contains("<canvas id=\"image\"") && page.contains("new EventSource(\"/events\")"));
+    assert!(!page.contains("http://") && !page.contains("https://"), "no CDN: the page works offline");
+    let (_, state) = viewer.get("/state");
+    let state: Value = serde_json::from_slice(&state).unwrap();
+    assert_eq!(
+        (state["width"].as_u64(), state["threads"].as_u64(), state["mode"].as_str()),
+        (Some(96), Some(3), Some("steal"))
+    );
+
+    // Render 2, asked for while listening, so every tile of it is seen: tiles arrive from
+    // several workers, pass by pass.
+    let mut events = viewer.events();
+    let (status, body) = viewer.post("/render?scene=final&width=96&spp=8&threads=3&tile=8", b"");
+    assert_eq!((status, serde_json::from_str::<Value>(&body).unwrap()["gen"].as_u64()), (202, Some(2)));
+    let render = until_done(&mut events, 2);
+    let tiles: Vec<&Value> = render.iter().filter(|e| e["type"] == "tile").collect();
+    let passes: Vec<u64> =
+        render.iter().filter(|e| e["type"] == "pass").map(|e| e["spp"].as_u64().unwrap()).collect();
+    assert_eq!(passes, [1, 2, 4, 8], "progressive passes accumulate 1, 2, 4, 8 samples");
+    let mut workers: Vec<u64> = tiles.iter().map(|t| t["worker"].as_u64().unwrap()).collect();
+    workers.sort_unstable();
+    workers.dedup();
+    assert!(workers.len() >= 2 && workers.len() <= 3, "tiles from several of the 3 workers: {workers:?}");
+    assert_eq!(tiles.len(), 4 * 12 * 8, "every 8-pixel tile of 96 x 64, in each of the 4 passes");
+    assert_eq!(tiles[0]["rgb"].as_str().unwrap().len(), 256, "an 8 x 8 tile's 192 RGB bytes, base64");
+    let image = served_image(&viewer, 2);
+    assert!(
+        image == cli_render(&viewer, &["--width", "96", "--spp", "8"]),
+        "the viewer's image is the CLI's"
+    );
+
+    // Render 3: another mode, thread count and camera; still the CLI's image.
+    let (status, body) = viewer.post("/render?mode=static&threads=2&width=80&spp=4&lookfrom=9.5,3,7.25", b"");
+    assert_eq!(status, 202, "{body}");
+    until_done(&mut events, 3);
+    let image = served_image(&viewer, 3);
+    let scene = String::from_utf8(viewer.get("/scene.toml").1).unwrap();
+    assert!(scene.contains("lookfrom = [9.5, 3.0, 7.25]"), "{scene}");
+    assert!(image == cli_render(&viewer, &["--width", "80", "--spp", "4", "--mode", "serial"]));
+
+    // A pasted scene.
+    let pasted = "[camera]\nlookfrom = [0, 0, 2]\nlookat = [0, 0, 0]\nvup = [0, 1, 0]\nvfov = 40\nfocus_dist = 2\n\n[background]\nkind = \"gradient\"\nhorizon = [1, 1, 1]\nzenith = [0.5, 0.7, 1]\n\n[[sphere]]\ncenter = [0, 0, 0]\nradius = 0.5\nmaterial = { kind = \"lambertian\", albedo = [0.8, 0.3, 0.3] }\n";
+    let (status, body) = viewer.post("/render?width=40&spp=2", pasted.as_bytes());
+    assert_eq!(status, 202, "{body}");
+    let image = served_image(&viewer, 4);
+    assert!(image == cli_render(&viewer, &["--width", "40", "--spp", "2"]));
+}
+
+#[test]
+fn bad_requests_get_4xx_and_one_line_and_the_server_goes_on() {
+    let viewer = Viewer::start(&["--width", "48", "--spp", "2"]);
+    let huge = vec![b'#'; (1 << 20) + 1];
+    let cases: Vec<(&str, &str, &[u8], u16, &str)> = vec![
+        ("POST", "/render?width=0", b"", 400, "0 is not in 1..=16384"),
+        ("POST", "/render?width=16385", b"", 400, "16385 is not in 1..=16384"),
+        ("POST", "/render?threads=4097", b"", 400, "4097 is not in 1..=4096"),
+        ("POST", "/render?spp=0", b"", 400, "--spp"),
+        ("POST", "/render?mode=fastest", b"", 400, "invalid value 'fastest' for '--mode"),
+        ("POST", "/render?rng=global", b"", 400, "invalid value 'global' for '--rng"),
+        ("POST", "/render?scene=nowhere", b"", 400, "nowhere"),
+        ("POST", "/render?colour=red", b"", 400, "unexpected argument '--colour'"),
+        ("POST", "/render?scene-file=/etc/passwd", b"", 400, "cannot read files on the server"),
+        ("POST", "/render?bind=0.0.0.0", b"", 400, "cannot be set by a request"),
+        ("POST", "/render?target-error=0.1", b"", 400, "not adaptive sampling"),
+        ("POST", "/render?lookfrom=1,2", b"", 400, "lookfrom must be three finite numbers"),
+        ("POST", "/render?lookfrom=nan,1,2", b"", 400, "lookfrom must be three finite numbers"),
+        ("POST", "/render?lookfrom=0,0,0", b"", 400, "is the camera's look-at point"),
+        ("POST", "/render?roulette=maybe", b"", 400, "roulette must be true or false"),
+        ("POST", "/render", b"[camera\nnot toml", 400, "pasted scene:1:"),
+        ("POST", "/render", b"\xff\xfe", 400, "not UTF-8"),
+        ("POST", "/render", &huge, 413, "larger than 1 MiB"),
+        ("GET", "/render", b"", 405, "GET is not allowed on /render"),
+        ("POST", "/state", b"", 405, "POST is not allowed on /state"),
+        ("GET", "/etc/passwd", b"", 404, "no such page: /etc/passwd"),
+    ];
+    for (method, path, body, status, reason) in cases {
+        let (got, text) = match method {
+            "GET" => {
+                let (s, b) = viewer.get(path);
+                (s, String::from_utf8(b).unwrap())
+            }
+            _ => viewer.post(path, body),
+        };
+        assert_eq!(got, status, "{method} {path}: {text}");
+        assert!(text.contains(reason), "{method} {path}: expected '{reason}' in {text:?}");
+        assert_eq!(text.trim_end().lines().count(), 1, "{method} {path}: one line: {text:?}");
+        assert_eq!(viewer.get("/state").0, 200, "still serving after {method} {path}");
+    }
+
+    // A client that sends half a request, and one that leaves an event stream mid-way.
+    let address = viewer.url.trim_start_matches("http://").trim_end_matches('/').to_string();
+    let mut half = TcpStream::connect(&address).unwrap();
+    half.write_all(b"POST /render?width=40 HTTP/1.1\r\nContent-Length: 100\r\n\r\nabc").unwrap();
+    drop(half);
+    let mut stream = TcpStream::connect(&address).unwrap();
+    stream.write_all(b"GET /events HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
+    let mut first = String::new();
+    BufReader::new(&stream).read_line(&mut first).unwrap();
+    assert!(first.starts_with("HTTP/1.1 200"), "{first}");
+    drop(stream);
+    assert_eq!(viewer.post("/render?width=40&spp=2", b"").0, 202);
+    served_image(&viewer, 2);
+}
+
+#[test]
+fn a_new_request_cancels_the_render_and_leaves_no_thread_behind() {
+    // A render long enough to be cancelled many times over: 2 threads, 4096 spp.
+    let viewer = Viewer::start(&["--width", "160", "--spp", "4096", "--threads", "2"]);
+    let mut events = viewer.events();
+    let mut generation = 1;
+    for round in 0..20 {
+        let mode = ["steal", "pool", "static", "interleaved", "pool-rows"][round % 5];
+        let (status, body) = viewer.post(&format!("/render?width=160&spp=4096&threads=2&mode={mode}"), b"");
+        assert_eq!(status, 202, "{body}");
+        generation += 1;
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    // After the last restart's `start`, no event of an older render may arrive: each restart
+    // waits for the cancelled render's jobs, which skip their tiles once cancelled.
+    let mut started = false;
+    let start = Instant::now();
+    let mut newest_tiles = 0;
+    for event in events.by_ref() {
+        let g = event["gen"].as_u64().unwrap();
+        if g == generation && event["type"] == "start" {
+            started = true;
+        } else if started {
+            assert_eq!(g, generation, "an event of render {g} after render {generation} started: {event}");
+            newest_tiles += 1;
+            if newest_tiles == 20 {
+                break;
+            }
+        }
+        assert!(start.elapsed() < MINUTE, "the newest render did not start");
+    }
+    drop(events);
+    // One render thread and one pool's workers at most; a finished or cancelled render's are gone.
+    let names = viewer.thread_names();
+    let render_threads = names.iter().filter(|n| n.starts_with("raypool-view")).count();
+    let workers = names.iter().filter(|n| n.starts_with("pool-worker")).count();
+    assert!(render_threads <= 1 && workers <= 2, "threads after 20 restarts: {names:?}");
+    assert_eq!(viewer.post("/render?width=8&spp=1", b"").0, 202);
+    served_image(&viewer, generation + 1);
+    std::thread::sleep(Duration::from_millis(200));
+    let names = viewer.thread_names();
+    assert!(
+        !names.iter().any(|n| n.starts_with("raypool-view") || n.starts_with("pool-worker")),
+        "a finished render leaves no render thread and no pool worker: {names:?}"
+    );
+}
+
+#[test]
+fn ctrl_c_stops_the_server_cleanly_and_bind_warns() {
+    let mut viewer = Viewer::start(&["--width", "64", "--spp", "100000", "--bind", "127.0.0.1"]);
+    std::thread::sleep(Duration::from_millis(300)); // mid-render
+    let pid = viewer.child.id().to_string();
+    assert!(Command::new("kill").args(["-INT", &pid]).status().unwrap().success());
+    let start = Instant::now();
+    let status = loop {
+        if let Some(status) = viewer.child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(start.elapsed() < Duration::from_secs(20), "still running after Ctrl-C");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert!(status.success(), "{status:?}");
+    let stderr = viewer.stderr();
+    assert!(stderr.contains("warning: serving on 127.0.0.1:"), "{stderr}");
+    assert!(stderr.contains("viewer stopped"), "{stderr}");
+}
+
+#[test]
+fn bad_command_lines_exit_2() {
+    for (args, expected) in [
+        (vec!["view", "--width", "0"], "0 is not in 1..=16384"),
+        (vec!["view", "--threads", "0"], "0 is not in 1..=4096"),
+        (vec!["view", "--bind", "not-an-address"], "--bind"),
+        (vec!["view", "--target-error", "0.1"], "not adaptive sampling"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_raypool")).args(&args).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(expected) && stderr.lines().count() == 1, "{args:?}: {stderr}");
+        assert!(out.stdout.is_empty(), "no address printed: {args:?}");
+    }
+}
