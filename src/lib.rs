@@ -8,8 +8,8 @@
 //! | [`tracer`] | the book's tracer in the book's order: [`tracer::real`], [`tracer::ray`], [`tracer::sphere`], [`tracer::material`], [`tracer::camera`], [`tracer::background`], [`tracer::packet`], [`tracer::bvh`], [`tracer::wide`], [`tracer::scene`], [`tracer::sampler`], [`tracer::tile`], and [`tracer::render`], the one render loop |
 //! | [`scenes`] | scenes as data: the TOML [`scenes::format`] and the [`scenes::builtin`] scenes |
 //! | [`files`] | the frame buffer ([`files::image`]), the PNG/PPM/PFM writers ([`files::output`]) and the part files of sharded renders ([`files::part`]) |
-//! | [`schedule`] | who renders which tile: [`schedule::frame`] (a render in progress), the [`schedule::modes`] and the [`schedule::conformance`] check |
-//! | [`measure`] | the [`measure::speedup`] benchmark, error ([`measure::compare`], [`measure::convergence`]), [`measure::stress`] cases, [`measure::plot`]s, [`measure::machine`] labels |
+//! | [`schedule`] | who renders which tile: [`schedule::frame`] (a render in progress), the [`schedule::modes`], [`schedule::progressive`] passes and the [`schedule::conformance`] check |
+//! | [`measure`] | the [`measure::speedup`] benchmark, the [`measure::scaling`] model, error ([`measure::compare`], [`measure::convergence`]), [`measure::stress`] cases, [`measure::plot`]s, [`measure::machine`] labels |
 //! | [`cli`] | the `raypool` command |
 //! | [`view`] | `raypool view`: the live viewer in the browser (its server, its render session, its page) |
 //!

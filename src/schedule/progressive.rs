@@ -3,7 +3,7 @@
 //!
 //! A [`Pass`] adds samples `a..b` of every pixel to running sums kept per tile across passes.
 //! Samples are added in sample order with the one render loop
-//! ([`accumulate_tile`](crate::tracer::render::accumulate_tile)), so after a pass that ends at
+//! ([`accumulate_tile`]), so after a pass that ends at
 //! `b` the image is, bit for bit, the image `raypool render --spp b` makes. A frame carrying a
 //! pass is rendered by any [`Scheduler`](crate::schedule::modes::Scheduler): the schedulers do
 //! not know about passes.

@@ -116,13 +116,28 @@ impl Browser {
         result["result"]["value"].clone()
     }
 
-    /// Evaluates `condition` every 50 ms until it is `true`; panics after `limit`.
+    /// Evaluates `condition` every 50 ms until it is `true` (an exception, say before the
+    /// page has loaded, counts as false); panics after `limit`.
     pub fn wait_for(&mut self, condition: &str, limit: Duration) {
         let start = Instant::now();
-        while self.eval(condition) != json!(true) {
+        let guarded =
+            format!("(() => {{ try {{ return !!({condition}); }} catch (e) {{ return false; }} }})()");
+        while self.eval(&guarded) != json!(true) {
             assert!(start.elapsed() < limit, "still not true after {limit:?}: {condition}");
             std::thread::sleep(Duration::from_millis(50));
         }
+    }
+
+    /// Drags the mouse with the left button from `from` to `to` (page pixels), in `steps` moves.
+    pub fn drag(&mut self, from: (f64, f64), to: (f64, f64), steps: u32) {
+        let mouse = |kind: &str, (x, y): (f64, f64), buttons: u32| json!({ "type": kind, "x": x, "y": y, "button": "left", "buttons": buttons, "clickCount": 1 });
+        self.call("Input.dispatchMouseEvent", mouse("mousePressed", from, 1), true);
+        for k in 1..=steps {
+            let t = f64::from(k) / f64::from(steps);
+            let at = (from.0 + (to.0 - from.0) * t, from.1 + (to.1 - from.1) * t);
+            self.call("Input.dispatchMouseEvent", mouse("mouseMoved", at, 1), true);
+        }
+        self.call("Input.dispatchMouseEvent", mouse("mouseReleased", to, 0), true);
     }
 
     /// The page as it is on screen, PNG.

@@ -1,0 +1,91 @@
+//! The viewer's page in a real browser: headless Chromium (Debian's `chromium`) loads it, lets
+//! it render, and the DOM must show a drawn image, one timeline lane per worker, a camera that
+//! orbits on a mouse drag (to the image the command line renders from there, byte for byte),
+//! the outline toggle, and a pasted scene's error.
+//!
+//! Without Chromium the test says so and skips; under `.ci/run` (which installs it and sets
+//! `RAYPOOL_CI=1`) it fails instead.
+
+mod common;
+
+use std::process::Command;
+use std::time::Duration;
+
+use common::browser::{Browser, chromium};
+use common::viewer::Viewer;
+use serde_json::json;
+
+const MINUTE: Duration = Duration::from_secs(60);
+
+#[test]
+fn the_page_renders_live_with_a_lane_per_worker_and_orbits() {
+    let Some(binary) = chromium() else {
+        assert!(
+            std::env::var_os("RAYPOOL_CI").is_none(),
+            "Chromium is required under .ci/run: apt-get install -y chromium"
+        );
+        eprintln!(
+            "SKIPPED the_page_renders_live_with_a_lane_per_worker_and_orbits: chromium not installed (apt-get install -y chromium)"
+        );
+        return;
+    };
+    let viewer = Viewer::start(&["--scene", "final", "--width", "200", "--spp", "16", "--threads", "2"]);
+    let mut page = Browser::open(&binary, &viewer.url, (1100, 720));
+    // The command line's render may be over before the page connects (it then shows the
+    // finished image); change a control, as a user would, and watch that render live.
+    page.wait_for("document.body.dataset.spp === '16'", MINUTE);
+    page.eval("const spp = document.getElementById('spp'); spp.value = 24; spp.dispatchEvent(new Event('change')); true");
+    page.wait_for("document.body.dataset.gen === '2' && document.body.dataset.spp === '24'", MINUTE);
+    let body = page.eval("JSON.stringify(document.body.dataset)");
+    let data: serde_json::Value = serde_json::from_str(body.as_str().unwrap()).unwrap();
+    assert_eq!(data["lanes"], "2", "one timeline lane per worker: {data}");
+    let lit: u32 = data["lit"].as_str().unwrap().parse().unwrap();
+    assert!(lit > 200 * 133 * 9 / 10, "the image is drawn: {lit} of {} pixels lit", 200 * 133);
+    let bars = page.eval(
+        "(() => { const c = document.getElementById('timeline'); \
+         const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data; \
+         let n = 0; for (let i = 3; i < d.length; i += 4) if (d[i] > 0) n++; return n; })()",
+    );
+    assert!(bars.as_u64().unwrap() > 1000, "the timeline has bars: {bars}");
+    assert!(page.eval("document.getElementById('stats').textContent").as_str().unwrap().contains("Mrays/s"));
+
+    // Drag the image: the camera orbits, the render restarts, and the page records how long
+    // the first whole frame took to reach the screen.
+    let rect = page.eval("(() => { const r = document.getElementById('image').getBoundingClientRect(); return [r.x, r.y, r.width, r.height]; })()");
+    let r: Vec<f64> = serde_json::from_value(rect).unwrap();
+    let centre = (r[0] + r[2] / 2.0, r[1] + r[3] / 2.0);
+    page.drag(centre, (centre.0 + 60.0, centre.1 + 10.0), 6);
+    page.wait_for("+document.body.dataset.gen >= 3 && document.body.dataset.spp === '24' && window.raypoolLatencies.length >= 2", MINUTE);
+    // Let the last request of the drag finish, then compare with the command line.
+    std::thread::sleep(Duration::from_millis(300));
+    page.wait_for("document.body.dataset.spp === '24'", MINUTE);
+    let generation = page.eval("+document.body.dataset.gen");
+    let (_, image) = viewer.get("/image.pfm");
+    let scene = viewer.get("/scene.toml").1;
+    assert!(!String::from_utf8_lossy(&scene).contains("lookfrom = [13.0, 2.0, 3.0]"), "the camera moved");
+    let dir = std::env::temp_dir().join(format!("raypool-browser-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("scene.toml"), scene).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_raypool"))
+        .args([
+            "render",
+            "--scene-file",
+            dir.join("scene.toml").to_str().unwrap(),
+            "--width",
+            "200",
+            "--spp",
+            "24",
+        ])
+        .args(["--out", dir.join("cli.pfm").to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert_eq!(page.eval("+document.body.dataset.gen"), generation, "no restart since");
+    assert!(image == std::fs::read(dir.join("cli.pfm")).unwrap(), "the orbited view is the CLI's image");
+
+    // The outline toggle, and a bad pasted scene's one-line error.
+    let display = page.eval("document.getElementById('show-outlines').click(); getComputedStyle(document.getElementById('outlines')).display");
+    assert_eq!(display, json!("none"));
+    page.eval("document.getElementById('custom').value = '[camera'; document.getElementById('use-custom').click(); true");
+    page.wait_for("document.getElementById('status').textContent.includes('pasted scene:1:')", MINUTE);
+}
