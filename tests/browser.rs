@@ -83,7 +83,26 @@ fn the_page_renders_live_with_a_lane_per_worker_and_orbits() {
     assert_eq!(page.eval("+document.body.dataset.gen"), generation, "no restart since");
     assert!(image == std::fs::read(dir.join("cli.pfm")).unwrap(), "the orbited view is the CLI's image");
 
-    // The outline toggle, and a bad pasted scene's one-line error.
+    // The wheel moves the camera away from what it looks at.
+    let distance = |viewer: &Viewer| {
+        let scene: raypool::SceneFile =
+            toml::from_str(&String::from_utf8(viewer.get("/scene.toml").1).unwrap()).unwrap();
+        let (a, b) = (scene.camera.lookfrom, scene.camera.lookat);
+        ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+    };
+    let before = distance(&viewer);
+    page.wheel(centre, 300.0);
+    page.wait_for(
+        &format!("+document.body.dataset.gen > {generation} && document.body.dataset.spp === '24'"),
+        MINUTE,
+    );
+    let after = distance(&viewer);
+    assert!(after > before * 1.2, "the wheel moved the camera out: {before} -> {after}");
+
+    // The download button, the outline toggle, and a bad pasted scene's one-line error.
+    let href = page.eval("document.getElementById('download').getAttribute('href')");
+    let (status, png) = viewer.get(href.as_str().unwrap());
+    assert!(status == 200 && png.starts_with(b"\x89PNG"), "{status}");
     let display = page.eval("document.getElementById('show-outlines').click(); getComputedStyle(document.getElementById('outlines')).display");
     assert_eq!(display, json!("none"));
     page.eval("document.getElementById('custom').value = '[camera'; document.getElementById('use-custom').click(); true");

@@ -9,7 +9,8 @@
 #
 # Needs root (the daemons run as root, munged as user munge) and the packages:
 #   apt-get install -y slurm-wlm munge
-# The node is `hostname -s` with `nproc` CPUs; ports 6817/6818 unless SLURM_PORTS="CTLD D".
+# The node is `hostname -s` (reached at 127.0.0.1, so no name lookup is needed) with `nproc`
+# CPUs; ports 6817/6818 unless SLURM_PORTS="CTLD D".
 set -euo pipefail
 
 usage() { echo "usage: $0 start|stop DIR" >&2; exit 2; }
@@ -71,7 +72,7 @@ start() {
 
     cat >"$dir/slurm.conf" <<CONF
 ClusterName=raypool-local
-SlurmctldHost=$node
+SlurmctldHost=$node(127.0.0.1)
 SlurmctldPort=$ctld_port
 SlurmdPort=$d_port
 SlurmUser=root
@@ -94,7 +95,7 @@ SelectType=select/cons_tres
 SelectTypeParameters=CR_CPU
 MpiDefault=none
 ReturnToService=2
-NodeName=$node CPUs=$cpus State=UNKNOWN
+NodeName=$node NodeAddr=127.0.0.1 CPUs=$cpus State=UNKNOWN
 PartitionName=local Nodes=$node Default=YES MaxTime=INFINITE State=UP
 CONF
 

@@ -140,6 +140,12 @@ impl Browser {
         self.call("Input.dispatchMouseEvent", mouse("mouseReleased", to, 0), true);
     }
 
+    /// Turns the mouse wheel by `delta_y` pixels at `at` (positive: towards the user).
+    pub fn wheel(&mut self, (x, y): (f64, f64), delta_y: f64) {
+        let event = json!({ "type": "mouseWheel", "x": x, "y": y, "deltaX": 0, "deltaY": delta_y });
+        self.call("Input.dispatchMouseEvent", event, true);
+    }
+
     /// The page as it is on screen, PNG.
     pub fn screenshot(&mut self) -> Vec<u8> {
         use base64::Engine as _;
