@@ -19,7 +19,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use parking_lot::Mutex;
 
-use crate::files::image::Image;
 use crate::tracer::render::{PixelSums, RenderJob, TileOutput, accumulate_tile};
 use crate::tracer::sampler::RandomStreams;
 use crate::tracer::tile::Tile;
@@ -46,20 +45,6 @@ impl Pass {
         let out = TileOutput { tile, pixels: sums.means(), rays, samples, timing: None };
         self.sums.lock().insert(tile, sums);
         out
-    }
-
-    /// The image of the sums so far (pixels of tiles never rendered stay black).
-    pub fn image(sums: &Sums, width: u32, height: u32) -> Image {
-        let mut image =
-            Image { width, height, pixels: vec![Default::default(); width as usize * height as usize] };
-        for (tile, tile_sums) in sums.lock().iter() {
-            let means = tile_sums.means();
-            for (row, chunk) in means.chunks_exact(tile.width as usize).enumerate() {
-                let start = (tile.y as usize + row) * width as usize + tile.x as usize;
-                image.pixels[start..start + chunk.len()].copy_from_slice(chunk);
-            }
-        }
-        image
     }
 }
 

@@ -35,6 +35,8 @@ const REFUSED: &[(&str, &str)] = &[
     ("target-error", "the viewer renders progressive passes, not adaptive sampling"),
     ("min-spp", "the viewer renders progressive passes, not adaptive sampling"),
     ("max-spp", "the viewer renders progressive passes, not adaptive sampling"),
+    ("help", "not a render setting"),
+    ("version", "not a render setting"),
 ];
 
 /// Parses a request's query string and body into a render [`Config`].

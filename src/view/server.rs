@@ -134,7 +134,6 @@ fn stream_events(session: &Session, request: Request) {
     }
     loop {
         let sent = match events.recv_timeout(KEEP_ALIVE) {
-            Ok(event) if event.is_empty() => Ok(()),
             Ok(event) => write!(out, "data: {event}\n\n"),
             Err(RecvTimeoutError::Timeout) => out.write_all(b": still here\n\n"),
             Err(RecvTimeoutError::Disconnected) => return,

@@ -209,7 +209,9 @@ impl Session {
             let hook = {
                 let (session, lanes) = (Arc::clone(self), Arc::clone(&lanes));
                 Arc::new(move |out: &TileOutput| {
-                    session.broadcast("tile", tile_event(generation, pass, done + more, out, &lanes))
+                    if let Some(event) = tile_event(generation, pass, done + more, out, &lanes) {
+                        session.broadcast("tile", event);
+                    }
                 })
             };
             let frame =
@@ -224,13 +226,14 @@ impl Session {
             }
             done += more;
             let seconds = pass_start.elapsed().as_secs_f64();
-            *self.latest.lock() = Some(Snapshot { generation, spp: done, image: rendered.image.clone() });
+            let (rays, imbalance) = (rendered.rays, rendered.imbalance());
+            *self.latest.lock() = Some(Snapshot { generation, spp: done, image: rendered.image });
             self.broadcast(
                 "pass",
                 json!({
                     "type": "pass", "gen": generation, "pass": pass, "spp": done, "seconds": seconds,
-                    "elapsed": started.elapsed().as_secs_f64(), "rays": rendered.rays,
-                    "mrays": rendered.rays as f64 / seconds.max(1e-9) / 1e6, "imbalance": rendered.imbalance(),
+                    "elapsed": started.elapsed().as_secs_f64(), "rays": rays,
+                    "mrays": rays as f64 / seconds.max(1e-9) / 1e6, "imbalance": imbalance,
                 })
                 .to_string(),
             );
@@ -266,15 +269,15 @@ fn frame_event(snapshot: &Snapshot) -> String {
 
 /// A finished tile: where, which worker (lanes are numbered in the order workers first
 /// finish a tile of this pass), when (seconds since the pass began), and its pixels as
-/// 8-bit RGB after `spp` samples, base64.
+/// 8-bit RGB after `spp` samples, base64. `None` for a tile that was not rendered.
 fn tile_event(
     generation: u64,
     pass: u32,
     spp: u32,
     out: &TileOutput,
     lanes: &Mutex<Vec<ThreadId>>,
-) -> String {
-    let Some(timing) = out.timing else { return String::new() };
+) -> Option<String> {
+    let timing = out.timing?;
     let worker = {
         let mut lanes = lanes.lock();
         lanes.iter().position(|&t| t == timing.thread).unwrap_or_else(|| {
@@ -290,4 +293,5 @@ fn tile_event(
         "rgb": base64::engine::general_purpose::STANDARD.encode(rgb),
     })
     .to_string()
+    .into()
 }
