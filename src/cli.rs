@@ -20,7 +20,7 @@ use crate::schedule::frame::{DEFAULT_TILE, Frame, RngSource};
 use crate::schedule::modes::{Schedule, render};
 use crate::tracer::real::Real;
 use crate::tracer::render::{Adaptive, MAX_SIDE, RenderJob, RenderSettings, default_height};
-use crate::tracer::sampler::{PerSample, SharedRng};
+use crate::tracer::sampler::{Sampler, SharedRng};
 use crate::tracer::scene::{Accel, Scene};
 use crate::tracer::tile::{Shard, Tile};
 
@@ -134,6 +134,10 @@ pub struct ImageArgs {
     /// Seed of the pixel samples' random streams.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Pixel samples' numbers: independent, or an Owen-scrambled Sobol sequence per pixel
+    /// (stratified: less noise for the same samples; see results/error.md).
+    #[arg(long, value_enum, default_value_t = SamplerChoice::Independent)]
+    pub sampler: SamplerChoice,
     /// Tile side in pixels, for the tiled modes (pool, steal).
     #[arg(long, default_value_t = DEFAULT_TILE, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
     pub tile: u32,
@@ -248,6 +252,15 @@ impl AccelChoice {
     }
 }
 
+/// The `--sampler` choices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SamplerChoice {
+    /// Independent numbers per pixel sample.
+    Independent,
+    /// An Owen-scrambled Sobol sequence per pixel, indexed by the sample number.
+    Sobol,
+}
+
 /// The `--rng` choices.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum RngChoice {
@@ -350,7 +363,7 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
     let output = PendingOutput::create(&args.out)?; // fail fast, before the long part
     let shard = check_shard(args, output.format())?;
     let rng = match args.rng {
-        RngChoice::PerSample => RngSource::PerSample(PerSample { seed: settings.seed }),
+        RngChoice::PerSample => RngSource::streams(&settings),
         RngChoice::Shared => RngSource::Shared(Arc::new(SharedRng::new(settings.seed))),
     };
     let pixels =
@@ -440,6 +453,11 @@ fn simulate_command(args: &SimulateArgs) -> Result<(), Error> {
 
 /// The shard to render: `--shard`, which needs a part file, or the whole image.
 fn check_shard(args: &RenderArgs, format: Format) -> Result<Shard, Error> {
+    if args.rng == RngChoice::Shared && args.image.sampler != SamplerChoice::Independent {
+        return Err(Error::new(
+            "--rng shared is one independent generator for all threads: it cannot follow --sampler sobol",
+        ));
+    }
     if format == Format::Part && args.rng == RngChoice::Shared {
         return Err(Error::new(
             "--rng shared draws numbers in whatever order threads run, so parts would not merge into one image: use --rng per-sample",
@@ -523,6 +541,10 @@ pub fn render_settings(args: &ImageArgs, height: u32) -> Result<RenderSettings, 
         seed: args.seed,
         roulette: args.roulette,
         adaptive,
+        sampler: match args.sampler {
+            SamplerChoice::Independent => Sampler::Independent,
+            SamplerChoice::Sobol => Sampler::Sobol,
+        },
         ..RenderSettings::default()
     })
 }

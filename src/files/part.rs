@@ -63,6 +63,8 @@ pub struct PartSettings {
     pub roulette: bool,
     /// Paths with black throughput stopped early.
     pub stop_black_paths: bool,
+    /// `independent` or `sobol`.
+    pub sampler: String,
     /// Adaptive sampling's target error, if on.
     pub target_error: Option<f64>,
     /// Adaptive sampling's samples per pass, if on.
@@ -88,6 +90,7 @@ impl PartSettings {
             seed: settings.seed,
             roulette: settings.roulette,
             stop_black_paths: settings.stop_black_paths,
+            sampler: settings.sampler.name().to_string(),
             target_error: settings.adaptive.map(|a| to_f64(a.target_error)),
             min_spp: settings.adaptive.map(|a| a.min_spp),
             tile,

@@ -19,7 +19,6 @@ use crate::schedule::frame::{Frame, RngSource};
 use crate::schedule::modes::{Rendered, Schedule, render};
 use crate::tracer::real::{Vec3, to_f32};
 use crate::tracer::render::{RenderJob, RenderSettings};
-use crate::tracer::sampler::PerSample;
 use crate::tracer::scene::Scene;
 
 /// Seeds of the reference's two halves: far from the small seeds measured renders use.
@@ -77,7 +76,7 @@ impl Reference {
 /// Renders with the work-stealing scheduler on `threads` threads; returns the render and its
 /// wall time in seconds.
 pub fn timed_render(scene: Scene, settings: RenderSettings, threads: usize) -> (Rendered, f64) {
-    let rng = RngSource::PerSample(PerSample { seed: settings.seed });
+    let rng = RngSource::streams(&settings);
     let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, threads, 16, Arc::new(|_| {})));
     let start = Instant::now();
     let rendered = render(&frame, &Schedule::Stealing);

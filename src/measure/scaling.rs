@@ -32,7 +32,6 @@ use crate::measure::plot::{ModelLine, efficiency_plot};
 use crate::schedule::frame::{Frame, RngSource};
 use crate::schedule::modes::{Rendered, Schedule, render};
 use crate::tracer::render::RenderJob;
-use crate::tracer::sampler::PerSample;
 
 /// Seconds each unit of work took on one thread.
 #[derive(Clone, Debug, PartialEq)]
@@ -55,8 +54,8 @@ impl Costs {
 /// on a shared machine catches another process's bursts in a few units). Row and tile passes
 /// alternate, so a slow minute of the machine weighs on both alike.
 pub fn measure_costs(job: RenderJob, tile: u32, passes: usize) -> Costs {
-    let seed = job.settings.seed;
-    let frame = Frame::new(job, RngSource::PerSample(PerSample { seed }), 1, tile, Arc::new(|_| {}));
+    let rng = RngSource::streams(&job.settings);
+    let frame = Frame::new(job, rng, 1, tile, Arc::new(|_| {}));
     let (rows, tiles) = (frame.rows(), frame.tiles());
     let mut row_times: Vec<Vec<f64>> = vec![Vec::new(); rows.len()];
     let mut tile_times: Vec<Vec<f64>> = vec![Vec::new(); tiles.len()];
@@ -219,7 +218,7 @@ pub fn measure_rounds(job: &RenderJob, tile: u32, threads: &[usize], rounds: usi
 
 /// One render of `job` with `mode` on `threads` threads: (seconds, imbalance).
 fn run_once(job: &RenderJob, tile: u32, mode: Schedule, threads: usize) -> (f64, f64) {
-    let rng = RngSource::PerSample(PerSample { seed: job.settings.seed });
+    let rng = RngSource::streams(&job.settings);
     let frame = Arc::new(Frame::new(job.clone(), rng, threads, tile, Arc::new(|_| {})));
     let start = Instant::now();
     let rendered: Rendered = render(&frame, &mode);

@@ -16,7 +16,7 @@ use crate::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use crate::schedule::frame::{DEFAULT_TILE, Frame, RngSource};
 use crate::schedule::modes::{Rendered, Schedule, Scheduler, render};
 use crate::tracer::render::{RenderJob, RenderSettings, default_height};
-use crate::tracer::sampler::{PerSample, SharedRng};
+use crate::tracer::sampler::SharedRng;
 
 /// Sizes and repetitions of one benchmark run.
 #[derive(Clone, Debug)]
@@ -123,7 +123,7 @@ fn measure_once(
     let rng = if shared_rng {
         RngSource::Shared(Arc::new(SharedRng::new(job.settings.seed)))
     } else {
-        RngSource::PerSample(PerSample { seed: job.settings.seed })
+        RngSource::streams(&job.settings)
     };
     let frame = Arc::new(Frame::new(job.clone(), rng, threads, DEFAULT_TILE, Arc::new(|_| {})));
     let start = Instant::now();

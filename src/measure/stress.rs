@@ -18,7 +18,6 @@ use crate::schedule::modes::{Schedule, render};
 use crate::tracer::camera::CameraSettings;
 use crate::tracer::real::to_f64;
 use crate::tracer::render::{RenderJob, RenderSettings};
-use crate::tracer::sampler::PerSample;
 use crate::tracer::sphere::Intersection;
 
 /// Values within this of the floor or of 1 count as exact.
@@ -80,7 +79,7 @@ impl StressCase {
             ..RenderSettings::default()
         };
         let scene = self.scene.to_scene().with_intersection(intersection);
-        let rng = RngSource::PerSample(PerSample { seed: settings.seed });
+        let rng = RngSource::streams(&settings);
         let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 2, 8, Arc::new(|_| {})));
         self.judge(&render(&frame, &Schedule::Stealing).image)
     }

@@ -13,8 +13,8 @@ use std::time::Instant;
 
 use crate::files::image::Image;
 use crate::schedule::progressive::{Cancel, Pass};
-use crate::tracer::render::{RenderJob, TileOutput, TileTiming, render_tile};
-use crate::tracer::sampler::{PerSample, SharedRng};
+use crate::tracer::render::{RenderJob, RenderSettings, TileOutput, TileTiming, render_tile};
+use crate::tracer::sampler::{PerSample, RandomStreams, Sampler, SharedRng, SobolStreams};
 use crate::tracer::tile::{Shard, Tile};
 
 /// Default tile side for the tiled modes, pixels (measured: `results/tile-size.md`).
@@ -25,8 +25,21 @@ pub const DEFAULT_TILE: u32 = 16;
 pub enum RngSource {
     /// One independent stream per pixel sample: images are identical under any schedule.
     PerSample(PerSample),
+    /// An Owen-scrambled Sobol sequence per pixel, indexed by sample: also identical under
+    /// any schedule.
+    Sobol(SobolStreams),
     /// One generator behind a lock, shared by all threads (the seed paper's `rand()`).
     Shared(Arc<SharedRng>),
+}
+
+impl RngSource {
+    /// The per-sample streams `settings` ask for (`settings.sampler`, seeded by `settings.seed`).
+    pub fn streams(settings: &RenderSettings) -> RngSource {
+        match settings.sampler {
+            Sampler::Independent => RngSource::PerSample(PerSample { seed: settings.seed }),
+            Sampler::Sobol => RngSource::Sobol(SobolStreams { seed: settings.seed }),
+        }
+    }
 }
 
 /// Reports progress: called with the number of pixels just finished, from any thread.
@@ -153,11 +166,10 @@ impl Frame {
             return TileOutput { tile, pixels, rays: 0, samples: 0, timing: None };
         }
         let start = self.epoch.elapsed();
-        let mut out = match (&self.pass, &self.rng) {
-            (None, RngSource::PerSample(streams)) => render_tile(&self.job, streams, tile),
-            (None, RngSource::Shared(shared)) => render_tile(&self.job, shared.as_ref(), tile),
-            (Some(pass), RngSource::PerSample(streams)) => pass.render(&self.job, streams, tile),
-            (Some(pass), RngSource::Shared(shared)) => pass.render(&self.job, shared.as_ref(), tile),
+        let mut out = match &self.rng {
+            RngSource::PerSample(streams) => self.render_with(streams, tile),
+            RngSource::Sobol(streams) => self.render_with(streams, tile),
+            RngSource::Shared(shared) => self.render_with(shared.as_ref(), tile),
         };
         out.timing =
             Some(TileTiming { thread: std::thread::current().id(), start, end: self.epoch.elapsed() });
@@ -166,6 +178,14 @@ impl Frame {
             hook(&out);
         }
         out
+    }
+
+    /// `tile` rendered whole, or this frame's pass of it, with `streams`.
+    fn render_with<S: RandomStreams>(&self, streams: &S, tile: Tile) -> TileOutput {
+        match &self.pass {
+            None => render_tile(&self.job, streams, tile),
+            Some(pass) => pass.render(&self.job, streams, tile),
+        }
     }
 
     /// Assembles rendered tiles into the image, checking that they cover every pixel of the

@@ -14,7 +14,7 @@ use crate::error::Error;
 use crate::tracer::camera::Camera;
 use crate::tracer::ray::Ray;
 use crate::tracer::real::{Real, Vec3, from_dvec3, to_dvec3};
-use crate::tracer::sampler::{RandomStreams, uniform};
+use crate::tracer::sampler::{RandomStreams, SampleRng, Sampler, uniform};
 use crate::tracer::scene::Scene;
 use crate::tracer::tile::Tile;
 
@@ -61,6 +61,8 @@ pub struct RenderSettings {
     pub roulette: bool,
     /// Adaptive sampling; `None` for `spp` samples in every pixel.
     pub adaptive: Option<Adaptive>,
+    /// Which numbers the samples draw: independent, or a scrambled Sobol sequence per pixel.
+    pub sampler: Sampler,
 }
 
 impl Default for RenderSettings {
@@ -75,6 +77,7 @@ impl Default for RenderSettings {
             stop_black_paths: true,
             roulette: false,
             adaptive: None,
+            sampler: Sampler::Independent,
         }
     }
 }
@@ -291,7 +294,7 @@ fn accumulate_pixel<S: RandomStreams>(
 /// The radiance arriving along `ray`: the book's `ray_color`, as a loop. A path casts at
 /// most `settings.max_depth` rays; one still bouncing after that contributes black. Adds
 /// the number of rays cast to `rays`.
-pub fn trace<R: rand::Rng + ?Sized>(
+pub fn trace<R: SampleRng + ?Sized>(
     scene: &Scene,
     mut ray: Ray,
     settings: &RenderSettings,
@@ -304,6 +307,7 @@ pub fn trace<R: rand::Rng + ?Sized>(
         let Some(hit) = scene.hit(&ray, Real::INFINITY) else {
             return throughput * scene.background.radiance(ray.dir);
         };
+        rng.bounce(cast - 1);
         let Some(scatter) = scene.material(&hit).scatter(ray.dir, &hit, rng) else {
             return Vec3::ZERO;
         };

@@ -1,22 +1,62 @@
-//! Random numbers: one independent stream per pixel sample, and the few warps the book needs.
+//! Random numbers: one stream per pixel sample, independent or low-discrepancy, and the few
+//! warps the book needs.
 //!
 //! An image must be bit-identical whatever the scheduler and thread count. So no random
 //! generator is shared, global or thread-local: sample `s` of pixel `p` draws from its own
-//! small generator seeded from `(render seed, p, s)`. Which thread renders the sample, and in
-//! what order, cannot change a single number it draws.
+//! stream, made from `(render seed, p, s)`. Which thread renders the sample, and in what order,
+//! cannot change a single number it draws.
+//!
+//! Two samplers make those streams ([`Sampler`], `--sampler`): [`PerSample`], independent
+//! numbers from a small generator seeded by the three keys; and [`SobolStreams`], an
+//! Owen-scrambled Sobol sequence (the `sobol_burley` crate, after Burley's "Practical
+//! Hash-based Owen Scrambling"), scrambled per pixel and indexed by the sample number, so a
+//! pixel's samples fill each 4-dimensional use evenly instead of by chance.
 
 use rand::rngs::SmallRng;
 use rand::{Rng, RngExt, SeedableRng};
 
 use crate::tracer::real::{Real, Vec3, consts::TAU};
 
+/// Which numbers pixel samples draw (`--sampler`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Sampler {
+    /// Independent numbers: [`PerSample`].
+    #[default]
+    Independent,
+    /// An Owen-scrambled Sobol sequence per pixel: [`SobolStreams`].
+    Sobol,
+}
+
+impl Sampler {
+    /// The `--sampler` name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sampler::Independent => "independent",
+            Sampler::Sobol => "sobol",
+        }
+    }
+}
+
+/// A pixel sample's generator, told when a new bounce begins, so that a low-discrepancy
+/// sampler can give each use of random numbers its own dimensions. Independent generators
+/// ignore it.
+pub trait SampleRng: Rng {
+    /// The next numbers are for bounce `bounce` (0 for the camera ray's first scatter). Until
+    /// the first call, they are the camera's: pixel jitter (2), then lens (2).
+    fn bounce(&mut self, bounce: u32) {
+        let _ = bounce;
+    }
+}
+
+impl SampleRng for SmallRng {}
+
 /// Where the random numbers of each pixel sample come from.
 ///
-/// [`PerSample`] is the renderer's real source. The trait exists so that an ablation (the
-/// paper's single shared `rand()`) can be plugged into the same render loop.
+/// [`PerSample`] and [`SobolStreams`] are the renderer's real sources. The trait also lets an
+/// ablation (the paper's single shared `rand()`) be plugged into the same render loop.
 pub trait RandomStreams: Sync {
     /// The generator type handed to one pixel sample.
-    type Stream<'a>: Rng
+    type Stream<'a>: SampleRng
     where
         Self: 'a;
     /// The stream for sample `sample` of pixel `pixel` (row-major index).
@@ -38,6 +78,102 @@ impl RandomStreams for PerSample {
         // samples get unrelated seeds; SmallRng expands the 64 bits into its full state.
         let key = mix(mix(mix(self.seed) ^ pixel) ^ sample);
         SmallRng::seed_from_u64(key)
+    }
+}
+
+/// Owen-scrambled Sobol streams: sample `s` of pixel `p` is point `s` of a Sobol sequence
+/// scrambled by a seed made from `(render seed, p)`.
+///
+/// Each use of random numbers gets its own 4-dimensional set: the camera (pixel jitter, lens)
+/// the first, bounce `k` the `k + 2`nd (direction, then the glass choice or Russian roulette).
+/// Sets are "padded" as Burley recommends: the same four best Sobol dimensions, decorrelated by
+/// a different scramble seed per set, so bounces do not correlate with each other or with the
+/// camera. Past four draws in one use, or past the sequence's 2¹⁶ samples, the stream falls back
+/// to independent numbers seeded like [`PerSample`]'s, so any draw count and any spp work.
+///
+/// ```
+/// use raypool::tracer::sampler::{RandomStreams, SobolStreams, uniform};
+/// let streams = SobolStreams { seed: 1 };
+/// // The first 16 samples of a pixel put exactly one jitter x in each sixteenth of [0, 1).
+/// let mut strata: Vec<usize> = (0..16).map(|s| (uniform(&mut streams.stream(42, s)) * 16.0) as usize).collect();
+/// strata.sort();
+/// assert_eq!(strata, (0..16).collect::<Vec<_>>());
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct SobolStreams {
+    /// The render seed (`--seed`).
+    pub seed: u64,
+}
+
+/// The most samples per pixel the Sobol sequence holds; later samples draw independent numbers.
+pub const SOBOL_SAMPLES: u64 = 1 << 16;
+
+impl RandomStreams for SobolStreams {
+    type Stream<'a> = SobolStream;
+
+    fn stream(&self, pixel: u64, sample: u64) -> SobolStream {
+        let pixel_seed = mix(mix(self.seed ^ 0x536F_626F_6C00_0000) ^ pixel);
+        let fallback = PerSample { seed: self.seed }.stream(pixel, sample);
+        let index = (sample < SOBOL_SAMPLES).then_some(sample as u32);
+        let mut stream = SobolStream { index, pixel_seed, set: [0.0; 4], next: 4, fallback };
+        stream.use_set(0);
+        stream
+    }
+}
+
+/// One pixel sample's numbers from [`SobolStreams`].
+#[derive(Clone, Debug)]
+pub struct SobolStream {
+    /// The sample's index in the sequence; `None` past [`SOBOL_SAMPLES`].
+    index: Option<u32>,
+    pixel_seed: u64,
+    /// The current use's four numbers, and how many of them were drawn.
+    set: [f32; 4],
+    next: usize,
+    fallback: SmallRng,
+}
+
+impl SobolStream {
+    /// Loads the 4-dimensional set of use `set` (0: camera; 1 + k: bounce k).
+    fn use_set(&mut self, set: u32) {
+        if let Some(index) = self.index {
+            let seed = mix(self.pixel_seed ^ u64::from(set)) as u32;
+            self.set = sobol_burley::sample_4d(index, 0, seed);
+            self.next = 0;
+        }
+    }
+}
+
+impl SampleRng for SobolStream {
+    fn bounce(&mut self, bounce: u32) {
+        self.use_set(bounce.saturating_add(1));
+    }
+}
+
+impl rand::TryRng for SobolStream {
+    type Error = std::convert::Infallible;
+
+    /// The current use's next Sobol number (its 24 bits on top, as `f32` keeps them), or an
+    /// independent one once they are used up.
+    fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
+        match self.set.get(self.next) {
+            Some(&v) => {
+                self.next += 1;
+                Ok(((v * 16_777_216.0) as u32) << 8)
+            }
+            None => Ok(self.fallback.next_u32()),
+        }
+    }
+
+    /// A Sobol number's 32 bits on top, independent bits below (for the `f64` build).
+    fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
+        let high = self.try_next_u32()?;
+        Ok(u64::from(high) << 32 | u64::from(self.fallback.next_u32()))
+    }
+
+    fn try_fill_bytes(&mut self, dst: &mut [u8]) -> Result<(), Self::Error> {
+        self.fallback.fill_bytes(dst);
+        Ok(())
     }
 }
 
@@ -117,6 +253,8 @@ impl rand::TryRng for SharedStream<'_> {
         Ok(())
     }
 }
+
+impl SampleRng for SharedStream<'_> {}
 
 impl RandomStreams for SharedRng {
     type Stream<'a> = SharedStream<'a>;

@@ -82,7 +82,7 @@ fn state(session: &Session) -> String {
     json!({
         "gen": generation, "scene": config.name, "scenes": BUILTINS.iter().map(|b| b.name).collect::<Vec<_>>(),
         "mode": config.mode.name(), "threads": config.threads, "tile": config.tile,
-        "rng": if config.shared_rng { "shared" } else { "per-sample" },
+        "rng": if config.shared_rng { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
         "width": settings.width, "height": settings.height, "spp": settings.spp,
     })
     .to_string()

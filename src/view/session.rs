@@ -27,7 +27,7 @@ use crate::schedule::frame::{Frame, RngSource};
 use crate::schedule::modes::{Schedule, render};
 use crate::schedule::progressive::{Cancel, Pass, Sums};
 use crate::tracer::render::{RenderJob, TileOutput};
-use crate::tracer::sampler::{PerSample, SharedRng};
+use crate::tracer::sampler::SharedRng;
 
 /// Events a page may fall behind by before it is dropped.
 const QUEUE: usize = 8192;
@@ -198,7 +198,7 @@ impl Session {
         let rng = if config.shared_rng {
             RngSource::Shared(Arc::new(SharedRng::new(settings.seed)))
         } else {
-            RngSource::PerSample(PerSample { seed: settings.seed })
+            RngSource::streams(&settings)
         };
         let started = Instant::now();
         let (mut done, mut pass) = (0, 0);
@@ -251,7 +251,7 @@ fn start_event(generation: u64, config: &Config) -> String {
         "type": "start", "gen": generation, "scene": config.name, "width": settings.width,
         "height": settings.height, "spp": settings.spp, "threads": config.threads,
         "mode": config.mode.name(), "tile": config.tile,
-        "rng": if config.shared_rng { "shared" } else { "per-sample" },
+        "rng": if config.shared_rng { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
         "lookfrom": config.scene.camera.lookfrom, "lookat": config.scene.camera.lookat,
     })
     .to_string()

@@ -1,0 +1,128 @@
+//! The Sobol sampler (`--sampler sobol`): images identical under every scheduler and thread
+//! count, unbiased (its error keeps falling, faster than independent sampling's), a working
+//! fallback past the sequence's 2^16 samples, and part files that refuse to mix samplers.
+
+use std::process::Command;
+use std::sync::Arc;
+
+use raypool::measure::convergence::{Reference, log_log_fit, timed_render};
+use raypool::scenes::builtin::builtin_scene;
+use raypool::schedule::modes::render;
+use raypool::tracer::render::{RenderSettings, render_tile};
+use raypool::tracer::sampler::{PerSample, RandomStreams, SOBOL_SAMPLES, Sampler, SobolStreams, uniform};
+use raypool::{Frame, RenderJob, RngSource, Schedule, Tile};
+
+fn sobol(settings: RenderSettings) -> RenderSettings {
+    RenderSettings { sampler: Sampler::Sobol, ..settings }
+}
+
+#[test]
+fn sobol_images_are_identical_under_every_mode_and_thread_count() {
+    let scene = builtin_scene("final", 2026).unwrap().to_scene();
+    let settings =
+        sobol(RenderSettings { width: 48, height: 32, spp: 8, max_depth: 20, ..Default::default() });
+    let image = |mode: Schedule, threads: usize| {
+        let frame = Frame::new(
+            RenderJob::new(scene.clone(), settings),
+            RngSource::streams(&settings),
+            threads,
+            7,
+            Arc::new(|_| {}),
+        );
+        render(&Arc::new(frame), &mode).image
+    };
+    let serial = image(Schedule::Serial, 1);
+    for mode in Schedule::ALL {
+        for threads in [2, 3, 7] {
+            assert!(image(mode, threads) == serial, "{mode:?} on {threads} threads");
+        }
+    }
+    let independent = {
+        let plain = RenderSettings { sampler: Sampler::Independent, ..settings };
+        let frame = Frame::new(
+            RenderJob::new(scene.clone(), plain),
+            RngSource::streams(&plain),
+            2,
+            7,
+            Arc::new(|_| {}),
+        );
+        render(&Arc::new(frame), &Schedule::Stealing).image
+    };
+    assert!(independent != serial, "the sampler changes the numbers");
+}
+
+#[test]
+fn sobol_error_keeps_falling_and_beats_independent_sampling() {
+    let scene = builtin_scene("three-spheres", 0).unwrap().to_scene();
+    let base = RenderSettings { width: 48, height: 32, max_depth: 50, seed: 1, ..Default::default() };
+    let reference = Reference::render(&scene, base, 1024, 2); // independent numbers, two seeds
+    let error =
+        |settings: RenderSettings| reference.error_of(&timed_render(scene.clone(), settings, 2).0.image);
+    let points: Vec<(f64, f64)> = [1, 2, 4, 8, 16, 32, 64]
+        .iter()
+        .map(|&spp| (spp as f64, error(sobol(RenderSettings { spp, ..base }))))
+        .collect();
+    let (slope, _) = log_log_fit(&points);
+    // A biased sampler's error would stop falling at its bias (the slope flattens towards 0).
+    assert!(
+        slope < -0.5,
+        "Sobol's slope {slope} should be steeper than independent sampling's -0.5: {points:?}"
+    );
+    let independent = error(RenderSettings { spp: 64, ..base });
+    let low_discrepancy = points.last().unwrap().1;
+    assert!(low_discrepancy < independent, "at 64 spp: Sobol {low_discrepancy}, independent {independent}");
+}
+
+#[test]
+fn past_the_sequence_samples_draw_independent_numbers() {
+    let streams = SobolStreams { seed: 3 };
+    // Inside the sequence: the first draw of 2^k consecutive samples is stratified.
+    let mut strata: Vec<usize> =
+        (0..64).map(|s| (uniform(&mut streams.stream(5, s)) * 64.0) as usize).collect();
+    strata.sort_unstable();
+    assert_eq!(strata, (0..64).collect::<Vec<_>>());
+    // Past it: the same numbers as the independent sampler's stream for that sample.
+    let (mut past, mut plain) =
+        (streams.stream(5, SOBOL_SAMPLES + 9), PerSample { seed: 3 }.stream(5, SOBOL_SAMPLES + 9));
+    for _ in 0..10 {
+        assert_eq!(uniform(&mut past), uniform(&mut plain));
+    }
+    // A pixel with more samples than the sequence holds renders (and is a sensible value).
+    let scene = builtin_scene("furnace", 0).unwrap().to_scene();
+    let settings = sobol(RenderSettings {
+        width: 1,
+        height: 1,
+        spp: SOBOL_SAMPLES as u32 + 4000,
+        max_depth: 8,
+        ..Default::default()
+    });
+    let out =
+        render_tile(&RenderJob::new(scene, settings), &streams, Tile { x: 0, y: 0, width: 1, height: 1 });
+    assert_eq!(out.samples, SOBOL_SAMPLES + 4000);
+    assert!(out.pixels[0].is_finite() && out.pixels[0].max_element() > 0.0, "{:?}", out.pixels[0]);
+}
+
+#[test]
+fn the_command_line_renders_with_sobol_and_parts_do_not_mix_samplers() {
+    let dir = std::env::temp_dir().join(format!("raypool-sampler-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let raypool = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(&dir).output().unwrap()
+    };
+    let small = ["render", "--scene", "paper1", "--width", "32", "--spp", "4", "--depth", "6"];
+    for (sampler, shard) in [("sobol", "0/2"), ("independent", "1/2")] {
+        let part = format!("{sampler}.rpart");
+        let out = raypool(&[&small[..], &["--sampler", sampler, "--shard", shard, "--out", &part]].concat());
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    }
+    let out = raypool(&["merge", "sobol.rpart", "independent.rpart", "--out", "m.png"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("sampler \"independent\" vs \"sobol\""),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = raypool(&[&small[..], &["--sampler", "sobol", "--rng", "shared", "--out", "x.png"]].concat());
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot follow --sampler sobol"));
+}
