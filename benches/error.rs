@@ -1,10 +1,13 @@
-//! `cargo bench --bench error`: run time against error, uniform and adaptive sampling, in
-//! f32 and (with `--features f64`) f64.
+//! `cargo bench --bench error`: run time against error for every sampling method, in f32 and
+//! (with `--features f64`) f64.
 //!
-//! For each scene: a reference of 2 × 2048 spp (two seeds; cached under
+//! For each scene: a reference of 2 × 2048 spp (independent numbers, two seeds; cached under
 //! `target/error-reference/`, outside git, and shared by the f32 and f64 runs), then renders
-//! at 1, 2, 4, … 256 spp and with adaptive sampling at several target errors, each timed and
-//! measured against the reference (its own noise taken out, see `raypool::measure::convergence`).
+//! at 1, 2, 4, … 256 spp with each uniform method (independent or Sobol numbers, Russian
+//! roulette off or on) and with adaptive sampling at several target errors, each timed and
+//! measured against the reference by RMSE and by relative MSE (its own noise taken out, see
+//! `raypool::measure::convergence`). The headline: each method's time to reach the error of
+//! independent uniform sampling at 256 spp, interpolated on its error-against-time curve.
 //! Writes `results/error-f32.csv` (or `-f64`), then `results/error.md` and `results/error.png`
 //! from whichever of the two CSV files exist. Run it once without and once with
 //! `--features f64` to compare the precisions. `--quick`: small images, for a smoke test.
@@ -21,6 +24,15 @@ use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::tracer::real::{Real, vec3};
 use raypool::tracer::render::default_height;
 use raypool::tracer::render::{Adaptive, RenderSettings};
+use raypool::tracer::sampler::Sampler;
+
+/// The uniform methods: (name, sampler, Russian roulette).
+const METHODS: [(&str, Sampler, bool); 4] = [
+    ("independent", Sampler::Independent, false),
+    ("sobol", Sampler::Sobol, false),
+    ("independent+rr", Sampler::Independent, true),
+    ("sobol+rr", Sampler::Sobol, true),
+];
 
 const SCENES: [&str; 5] = ["final", "paper1", "paper2", "paper3", "three-spheres"];
 const TARGETS: [Real; 4] = [0.2, 0.1, 0.05, 0.025];
@@ -37,16 +49,17 @@ struct Config {
 struct Row {
     scene: String,
     precision: String,
-    /// "uniform" or "adaptive".
+    /// One of [`METHODS`]' names, or "adaptive" (independent numbers).
     method: String,
     /// spp for uniform; the target error for adaptive.
     setting: f64,
     mean_spp: f64,
     seconds: f64,
     rmse: f64,
+    rel_mse: f64,
 }
 
-const CSV_HEADER: &str = "scene,precision,method,setting,mean_spp,seconds,rmse";
+const CSV_HEADER: &str = "scene,precision,method,setting,mean_spp,seconds,rmse,rel_mse";
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
@@ -72,11 +85,17 @@ fn main() {
             "| {name} | {} × {height} | {} | {:.2e} |",
             config.width, reference.spp, reference.noise
         );
+        // Rounds over the spp, each running every method once, so the machine's drift over
+        // the minutes hits the methods alike.
         let mut spp = 1;
         while spp <= config.max_spp {
-            let (out, seconds) = timed_render(scene.clone(), RenderSettings { spp, ..base }, threads);
-            rows.push(row(name, "uniform", spp as f64, &out, seconds, &reference, base));
-            eprintln!("{name} {PRECISION} {spp} spp: {seconds:.3} s, rmse {:.3e}", rows.last().unwrap().rmse);
+            for (method, sampler, roulette) in METHODS {
+                let settings = RenderSettings { spp, sampler, roulette, ..base };
+                let (out, seconds) = timed_render(scene.clone(), settings, threads);
+                rows.push(row(name, method, spp as f64, &out, seconds, &reference, base));
+                let r = rows.last().unwrap();
+                eprintln!("{name} {PRECISION} {method} {spp} spp: {seconds:.3} s, rmse {:.3e}, relmse {:.3e}", r.rmse, r.rel_mse);
+            }
             spp *= 2;
         }
         for target_error in TARGETS {
@@ -95,8 +114,8 @@ fn main() {
         .iter()
         .map(|r| {
             format!(
-                "{},{},{},{:.4},{:.3},{:.5},{:.6e}\n",
-                r.scene, r.precision, r.method, r.setting, r.mean_spp, r.seconds, r.rmse
+                "{},{},{},{:.4},{:.3},{:.5},{:.6e},{:.6e}\n",
+                r.scene, r.precision, r.method, r.setting, r.mean_spp, r.seconds, r.rmse, r.rel_mse
             )
         })
         .collect();
@@ -133,6 +152,7 @@ fn row(
         mean_spp: out.samples as f64 / (base.width as f64 * base.height as f64),
         seconds,
         rmse: reference.error_of(&out.image),
+        rel_mse: reference.rel_mse_of(&out.image),
     }
 }
 
@@ -174,14 +194,21 @@ fn read_csv(path: &Path) -> Vec<Row> {
         .filter_map(|line| {
             let f: Vec<&str> = line.split(',').collect();
             let num = |k: usize| f.get(k)?.parse::<f64>().ok();
+            // Files from before the samplers call independent uniform sampling "uniform",
+            // and have no relative MSE.
+            let method = match *f.get(2)? {
+                "uniform" => "independent",
+                other => other,
+            };
             Some(Row {
                 scene: f.first()?.to_string(),
                 precision: f.get(1)?.to_string(),
-                method: f.get(2)?.to_string(),
+                method: method.to_string(),
                 setting: num(3)?,
                 mean_spp: num(4)?,
                 seconds: num(5)?,
                 rmse: num(6)?,
+                rel_mse: num(7).unwrap_or(f64::NAN),
             })
         })
         .collect()
@@ -194,6 +221,7 @@ fn select<'a>(rows: &'a [Row], scene: &str, precision: &str, method: &str) -> Ve
 /// The uniform-sampling time that reaches `rmse`, from the power law fitted to the uniform
 /// runs of 4 spp and more (below that, fixed costs per render dominate the time).
 fn uniform_time_for(uniform: &[&Row], rmse: f64) -> f64 {
+    // (independent uniform sampling's runs)
     let points: Vec<(f64, f64)> =
         uniform.iter().filter(|r| r.setting >= 4.0).map(|r| (r.rmse, r.seconds)).collect();
     let (k, log_c) = log_log_fit(&points);
@@ -208,11 +236,12 @@ fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads
          (`src/measure/convergence.rs`).\n\n| scene | size | reference spp | reference noise (RMSE) |\n|---|---|---:|---:|\n{references}\n",
         config.width
     );
-    md += "## Slope of error against spp (uniform sampling, 1…256 spp)\n\nMonte Carlo error must fall as \
+    md += &headline(rows, config.max_spp);
+    md += "## Slope of error against spp (independent uniform sampling, 1…256 spp)\n\nMonte Carlo error must fall as \
            spp^−1/2: the fitted log–log slope must be −0.5 ± 0.05.\n\n| scene | precision | slope | within ±0.05 |\n|---|---|---:|---|\n";
     for scene in SCENES {
         for precision in ["f32", "f64"] {
-            let uniform = select(rows, scene, precision, "uniform");
+            let uniform = select(rows, scene, precision, "independent");
             if uniform.len() < 2 {
                 continue;
             }
@@ -224,8 +253,8 @@ fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads
     }
     md += "\n## Uniform sampling: time and error\n\n| scene | spp | f32 time (s) | f32 RMSE | f64 time (s) | f64 RMSE |\n|---|---:|---:|---:|---:|---:|\n";
     for scene in SCENES {
-        let f32_rows = select(rows, scene, "f32", "uniform");
-        let f64_rows = select(rows, scene, "f64", "uniform");
+        let f32_rows = select(rows, scene, "f32", "independent");
+        let f64_rows = select(rows, scene, "f64", "independent");
         for (k, r) in f32_rows.iter().enumerate() {
             let other = f64_rows
                 .get(k)
@@ -242,7 +271,7 @@ fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads
     );
     for scene in SCENES {
         for precision in ["f32", "f64"] {
-            let uniform = select(rows, scene, precision, "uniform");
+            let uniform = select(rows, scene, precision, "independent");
             for r in select(rows, scene, precision, "adaptive") {
                 let t = uniform_time_for(&uniform, r.rmse);
                 let _ = writeln!(
@@ -260,21 +289,72 @@ fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads
     md
 }
 
-fn plot(rows: &[Row], path: &Path, footer: &str) {
-    let mut series = Vec::new();
+/// Each method's time to reach the error of independent uniform sampling at `max_spp`, by
+/// RMSE and by relative MSE, and Sobol's slope.
+fn headline(rows: &[Row], max_spp: u32) -> String {
+    let mut md = format!(
+        "## Time to the error of independent uniform sampling at {max_spp} spp\n\nFor each method, the time at which \
+         its error-against-time curve crosses the error that independent uniform sampling reaches at {max_spp} spp, \
+         interpolated log–log between the two runs around the crossing; the ratio is that time ÷ independent \
+         uniform sampling's own time at {max_spp} spp (below 1: faster to the same error). \"+rr\": Russian \
+         roulette. Single runs on a shared machine: times carry ±10%.\n\n\
+         | scene | method | RMSE: time (s) | ratio | relMSE: time (s) | ratio |\n|---|---|---:|---:|---:|---:|\n"
+    );
     for scene in SCENES {
-        for (precision, method) in [("f32", "uniform"), ("f32", "adaptive"), ("f64", "uniform")] {
-            let points: Vec<(f64, f64)> = select(rows, scene, precision, method)
-                .iter()
-                .filter(|r| r.rmse > 0.0)
-                .map(|r| (r.seconds, r.rmse))
-                .collect();
-            if !points.is_empty() {
-                let label = format!("{scene} {method} {precision}");
-                series.push(LogSeries { label, points, triangles: method == "adaptive" });
-            }
+        let independent = select(rows, scene, "f32", "independent");
+        let Some(goal) = independent.iter().find(|r| r.setting == f64::from(max_spp)) else { continue };
+        for (method, _, _) in METHODS {
+            let runs = select(rows, scene, "f32", method);
+            let cell = |error: fn(&Row) -> f64| match time_to_reach(&runs, error(goal), error) {
+                Some(t) => format!("{t:.3} | {:.2}×", t / goal.seconds),
+                None => format!("not within {max_spp} spp | –"),
+            };
+            let _ = writeln!(md, "| {scene} | {method} | {} | {} |", cell(|r| r.rmse), cell(|r| r.rel_mse));
         }
     }
-    log_log_plot(path, "RMSE against run time", ("seconds", "RMSE (linear)"), footer, &series, -0.5)
+    md += "\n### Sobol's error slope (RMSE against spp, log–log)\n\n| scene | 1–16 spp | 16–256 spp | 1–256 spp |\n|---|---:|---:|---:|\n";
+    for scene in SCENES {
+        let runs = select(rows, scene, "f32", "sobol");
+        let slope = |lo: f64, hi: f64| {
+            let points: Vec<(f64, f64)> =
+                runs.iter().filter(|r| r.setting >= lo && r.setting <= hi).map(|r| (r.setting, r.rmse)).collect();
+            if points.len() < 2 { "–".to_string() } else { format!("{:.3}", log_log_fit(&points).0) }
+        };
+        let _ = writeln!(md, "| {scene} | {} | {} | {} |", slope(1.0, 16.0), slope(16.0, 256.0), slope(1.0, 256.0));
+    }
+    md + "\n"
+}
+
+/// When `runs` (in increasing spp) first reach `goal` by `error`: log–log interpolation
+/// between the runs on either side; the first run's time if it is already there.
+fn time_to_reach(runs: &[&Row], goal: f64, error: fn(&Row) -> f64) -> Option<f64> {
+    let first = runs.first()?;
+    if error(first) <= goal {
+        return Some(first.seconds);
+    }
+    runs.windows(2).find(|w| error(w[1]) <= goal).map(|w| {
+        let (e0, e1) = (error(w[0]).ln(), error(w[1]).ln());
+        let (t0, t1) = (w[0].seconds.ln(), w[1].seconds.ln());
+        let at = if e1 < e0 { (goal.ln() - e0) / (e1 - e0) } else { 1.0 };
+        (t0 + at * (t1 - t0)).exp()
+    })
+}
+
+fn plot(rows: &[Row], path: &Path, footer: &str) {
+    // One line per method on `final` (the other scenes are in the tables).
+    let mut series = Vec::new();
+    let methods = METHODS.iter().map(|m| m.0).chain(["adaptive"]);
+    for method in methods {
+        let points: Vec<(f64, f64)> = select(rows, "final", "f32", method)
+            .iter()
+            .filter(|r| r.rmse > 0.0)
+            .map(|r| (r.seconds, r.rmse))
+            .collect();
+        if !points.is_empty() {
+            let label = if method == "adaptive" { "adaptive (independent)".to_string() } else { method.to_string() };
+            series.push(LogSeries { label, points, triangles: method == "adaptive" });
+        }
+    }
+    log_log_plot(path, "final: RMSE against run time, by method", ("seconds", "RMSE (linear)"), footer, &series, -0.5)
         .expect("error.png is writable");
 }

@@ -17,7 +17,7 @@ use crate::files::image::Image;
 use crate::measure::compare::metrics;
 use crate::schedule::frame::{Frame, RngSource};
 use crate::schedule::modes::{Rendered, Schedule, render};
-use crate::tracer::real::{Vec3, to_f32};
+use crate::tracer::real::{Vec3, to_f32, to_f64};
 use crate::tracer::render::{RenderJob, RenderSettings};
 use crate::tracer::scene::Scene;
 
@@ -70,6 +70,23 @@ impl Reference {
     /// with the reference's own noise taken out (0 if the measurement is below it).
     pub fn error_of(&self, image: &Image) -> f64 {
         (rmse(image, &self.image).powi(2) - self.noise.powi(2)).max(0.0).sqrt()
+    }
+
+    /// The relative MSE of `image` (pbrt's and the denoising literature's measure): the mean
+    /// over pixels and channels of (x − r)² / (r² + 0.01), so dark pixels' errors count as much
+    /// as bright ones'. The reference's own share, (a − b)²/4 weighted alike, is taken out
+    /// (0 if the measurement is below it).
+    pub fn rel_mse_of(&self, image: &Image) -> f64 {
+        let [a, b] = &self.halves;
+        let values = |img: &Image| img.pixels.iter().flat_map(|p| p.to_array()).map(to_f64).collect::<Vec<f64>>();
+        let (x, r, a, b) = (values(image), values(&self.image), values(a), values(b));
+        let (mut error, mut noise) = (0.0, 0.0);
+        for k in 0..x.len() {
+            let weight = 1.0 / (r[k] * r[k] + 0.01);
+            error += weight * (x[k] - r[k]).powi(2);
+            noise += weight * (a[k] - b[k]).powi(2) / 4.0;
+        }
+        ((error - noise) / x.len().max(1) as f64).max(0.0)
     }
 }
 
