@@ -78,7 +78,8 @@ impl Reference {
     /// (0 if the measurement is below it).
     pub fn rel_mse_of(&self, image: &Image) -> f64 {
         let [a, b] = &self.halves;
-        let values = |img: &Image| img.pixels.iter().flat_map(|p| p.to_array()).map(to_f64).collect::<Vec<f64>>();
+        let values =
+            |img: &Image| img.pixels.iter().flat_map(|p| p.to_array()).map(to_f64).collect::<Vec<f64>>();
         let (x, r, a, b) = (values(image), values(&self.image), values(a), values(b));
         let (mut error, mut noise) = (0.0, 0.0);
         for k in 0..x.len() {

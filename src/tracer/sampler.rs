@@ -113,8 +113,8 @@ impl RandomStreams for SobolStreams {
 
     fn stream(&self, pixel: u64, sample: u64) -> SobolStream {
         let pixel_seed = mix(mix(self.seed ^ 0x536F_626F_6C00_0000) ^ pixel);
-        let fallback = PerSample { seed: self.seed }.stream(pixel, sample);
         let index = (sample < SOBOL_SAMPLES).then_some(sample as u32);
+        let fallback = Fallback { streams: PerSample { seed: self.seed }, pixel, sample, rng: None };
         let mut stream = SobolStream { index, pixel_seed, set: [0.0; 4], next: 4, fallback };
         stream.use_set(0);
         stream
@@ -130,7 +130,23 @@ pub struct SobolStream {
     /// The current use's four numbers, and how many of them were drawn.
     set: [f32; 4],
     next: usize,
-    fallback: SmallRng,
+    fallback: Fallback,
+}
+
+/// The independent numbers a Sobol stream falls back to, seeded only if it ever needs them
+/// (most samples never do, and seeding costs as much as a bounce's Sobol set).
+#[derive(Clone, Debug)]
+struct Fallback {
+    streams: PerSample,
+    pixel: u64,
+    sample: u64,
+    rng: Option<SmallRng>,
+}
+
+impl Fallback {
+    fn rng(&mut self) -> &mut SmallRng {
+        self.rng.get_or_insert_with(|| self.streams.stream(self.pixel, self.sample))
+    }
 }
 
 impl SobolStream {
@@ -161,18 +177,18 @@ impl rand::TryRng for SobolStream {
                 self.next += 1;
                 Ok(((v * 16_777_216.0) as u32) << 8)
             }
-            None => Ok(self.fallback.next_u32()),
+            None => Ok(self.fallback.rng().next_u32()),
         }
     }
 
     /// A Sobol number's 32 bits on top, independent bits below (for the `f64` build).
     fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
         let high = self.try_next_u32()?;
-        Ok(u64::from(high) << 32 | u64::from(self.fallback.next_u32()))
+        Ok(u64::from(high) << 32 | u64::from(self.fallback.rng().next_u32()))
     }
 
     fn try_fill_bytes(&mut self, dst: &mut [u8]) -> Result<(), Self::Error> {
-        self.fallback.fill_bytes(dst);
+        self.fallback.rng().fill_bytes(dst);
         Ok(())
     }
 }

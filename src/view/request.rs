@@ -14,7 +14,6 @@ use crate::cli::{RngChoice, ViewArgs, default_threads, load_scene, one_line, ren
 use crate::error::Error;
 use crate::scenes::format::SceneFile;
 use crate::tracer::render::{RenderJob, default_height};
-use crate::tracer::sampler::Sampler;
 use crate::view::session::Config;
 
 /// Largest pasted scene, bytes.
@@ -78,12 +77,7 @@ pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>)
         Some(h) => h,
         None => default_height(image.width, scene.camera.aspect)?,
     };
-    let settings = render_settings(image, height)?;
-    if args.rng == RngChoice::Shared && settings.sampler != Sampler::Independent {
-        return Err(Error::new(
-            "--rng shared is one independent generator for all threads: it cannot follow --sampler sobol",
-        ));
-    }
+    let settings = render_settings(image, height, args.rng)?;
     if settings.adaptive.is_some() {
         return Err(Error::new("the viewer renders progressive passes, not adaptive sampling"));
     }
