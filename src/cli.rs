@@ -148,12 +148,9 @@ pub struct ImageArgs {
     pub accel: AccelChoice,
 }
 
-/// Options of `raypool render`.
+/// Who renders, and with which random numbers (shared by `render` and `view`).
 #[derive(Debug, Args)]
-pub struct RenderArgs {
-    /// The scene, image size and sampling.
-    #[command(flatten)]
-    pub image: ImageArgs,
+pub struct WorkerArgs {
     /// Worker threads [default: the number of CPUs].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub threads: Option<u32>,
@@ -166,6 +163,17 @@ pub struct RenderArgs {
     /// shared by all threads, as the seed paper's rand() (an ablation; not reproducible).
     #[arg(long, value_enum, default_value_t = RngChoice::PerSample)]
     pub rng: RngChoice,
+}
+
+/// Options of `raypool render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    /// The scene, image size and sampling.
+    #[command(flatten)]
+    pub image: ImageArgs,
+    /// Threads, scheduler and random numbers.
+    #[command(flatten)]
+    pub workers: WorkerArgs,
     /// Render only shard K of N: the tiles (of --tile) whose row-major index is K mod N,
     /// into a part file (--out NAME.rpart) for `raypool merge`.
     #[arg(long, value_name = "K/N")]
@@ -182,15 +190,9 @@ pub struct ViewArgs {
     /// The scene, image size and sampling (--spp: the samples the passes accumulate up to).
     #[command(flatten)]
     pub image: ImageArgs,
-    /// Worker threads [default: the number of CPUs].
-    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
-    pub threads: Option<u32>,
-    /// Scheduler (see `raypool render --help`).
-    #[arg(long, value_enum, default_value_t = Schedule::Stealing)]
-    pub mode: Schedule,
-    /// Random numbers: per-sample streams, or one generator behind a lock (the paper's rand()).
-    #[arg(long, value_enum, default_value_t = RngChoice::PerSample)]
-    pub rng: RngChoice,
+    /// Threads, scheduler and random numbers.
+    #[command(flatten)]
+    pub workers: WorkerArgs,
     /// Port to serve on; 0 takes a free one.
     #[arg(long, default_value_t = 0)]
     pub port: u16,
@@ -355,15 +357,11 @@ pub fn load_scene(args: &ImageArgs) -> Result<SceneFile, Error> {
 fn render_command(args: &RenderArgs) -> Result<(), Error> {
     let image = &args.image;
     let scene = load_scene(image)?;
-    let height = match image.height {
-        Some(h) => h,
-        None => default_height(image.width, scene.camera.aspect)?,
-    };
-    let settings = render_settings(image, height, args.rng)?;
-    let threads = args.threads.map_or_else(default_threads, |t| t as usize);
+    let settings = render_settings(image, &scene, args.workers.rng)?;
+    let threads = args.workers.threads.map_or_else(default_threads, |t| t as usize);
     let output = PendingOutput::create(&args.out)?; // fail fast, before the long part
     let shard = check_shard(args, output.format())?;
-    let rng = match args.rng {
+    let rng = match args.workers.rng {
         RngChoice::PerSample => RngSource::streams(&settings),
         RngChoice::Shared => RngSource::Shared(Arc::new(SharedRng::new(settings.seed))),
     };
@@ -378,7 +376,7 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
     let frame = Arc::new(Frame::new(job, rng, threads, image.tile, progress).sharded(shard));
 
     let start = Instant::now();
-    let rendered = render(&frame, &args.mode);
+    let rendered = render(&frame, &args.workers.mode);
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     if output.format() == Format::Part {
@@ -397,8 +395,8 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
         output.write(&rendered.image)?;
     }
 
-    let threads_used = if args.mode == Schedule::Serial { 1 } else { threads };
-    let mode = args.mode.name();
+    let threads_used = if args.workers.mode == Schedule::Serial { 1 } else { threads };
+    let mode = args.workers.mode.name();
     let shard_note = if shard == Shard::WHOLE { String::new() } else { format!(", shard {shard}") };
     eprintln!(
         "{}x{}{shard_note}, {} spp, depth {}, mode {mode}, threads {threads_used}: {seconds:.3} s, {} rays, {:.2} Mrays/s -> {}",
@@ -417,16 +415,12 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
 fn simulate_command(args: &SimulateArgs) -> Result<(), Error> {
     let image = &args.image;
     let scene = load_scene(image)?;
-    let height = match image.height {
-        Some(h) => h,
-        None => default_height(image.width, scene.camera.aspect)?,
-    };
-    let settings = render_settings(image, height, RngChoice::PerSample)?;
+    let settings = render_settings(image, &scene, RngChoice::PerSample)?;
     let job = RenderJob::new(image.accel.apply(scene.to_scene()), settings);
     let name = image.scene_file.as_ref().map_or(image.scene.clone(), |p| p.display().to_string());
     let subject = format!(
-        "{name}, {} × {height}, {} spp, depth {}, {}-pixel tiles",
-        image.width, settings.spp, settings.max_depth, image.tile
+        "{name}, {} × {}, {} spp, depth {}, {}-pixel tiles",
+        settings.width, settings.height, settings.spp, settings.max_depth, image.tile
     );
     eprintln!("timing every row and tile of {subject} on one thread, {} passes", args.runs);
     let costs = measure_costs(job.clone(), image.tile, args.runs as usize);
@@ -454,7 +448,7 @@ fn simulate_command(args: &SimulateArgs) -> Result<(), Error> {
 
 /// The shard to render: `--shard`, which needs a part file, or the whole image.
 fn check_shard(args: &RenderArgs, format: Format) -> Result<Shard, Error> {
-    if format == Format::Part && args.rng == RngChoice::Shared {
+    if format == Format::Part && args.workers.rng == RngChoice::Shared {
         return Err(Error::new(
             "--rng shared draws numbers in whatever order threads run, so parts would not merge into one image: use --rng per-sample",
         ));
@@ -529,8 +523,13 @@ fn sampler(args: &ImageArgs, rng: RngChoice) -> Result<Sampler, Error> {
     }
 }
 
-/// The render settings the flags ask for, with random numbers from `rng`.
-pub fn render_settings(args: &ImageArgs, height: u32, rng: RngChoice) -> Result<RenderSettings, Error> {
+/// The render settings the flags ask for, for `scene` (whose camera gives the height when
+/// `--height` does not), with random numbers from `rng`.
+pub fn render_settings(args: &ImageArgs, scene: &SceneFile, rng: RngChoice) -> Result<RenderSettings, Error> {
+    let height = match args.height {
+        Some(h) => h,
+        None => default_height(args.width, scene.camera.aspect)?,
+    };
     let adaptive = match args.target_error {
         Some(target_error) if args.min_spp > args.max_spp => {
             return Err(Error::new(format!(

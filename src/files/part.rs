@@ -81,7 +81,7 @@ impl PartSettings {
     pub fn new(scene_digest: String, settings: &RenderSettings, tile: u32, shards: u32) -> PartSettings {
         PartSettings {
             renderer: concat!("raypool ", env!("CARGO_PKG_VERSION")).to_string(),
-            real: if size_of::<Real>() == 4 { "f32" } else { "f64" }.to_string(),
+            real: real_name().to_string(),
             scene_digest,
             width: settings.width,
             height: settings.height,
@@ -145,6 +145,11 @@ pub struct Part {
 /// SHA-256 of `text` (a scene's TOML), hex: what tells two parts' scenes apart.
 pub fn scene_digest(text: &str) -> String {
     hex(&Sha256::digest(text.as_bytes()))
+}
+
+/// This build's precision: `f32`, or `f64` with the `f64` feature.
+fn real_name() -> &'static str {
+    if size_of::<Real>() == 4 { "f32" } else { "f64" }
 }
 
 fn hex(bytes: &[u8]) -> String {
@@ -221,9 +226,12 @@ impl Part {
         if hex(&Sha256::digest(data)) != header.data_sha256 {
             return Err("corrupt: its data does not match the header's SHA-256".into());
         }
-        let own_real = PartSettings::new(String::new(), &RenderSettings::default(), 1, 1).real;
-        if header.settings.real != own_real {
-            return Err(format!("rendered in {}; this raypool renders in {own_real}", header.settings.real));
+        if header.settings.real != real_name() {
+            return Err(format!(
+                "rendered in {}; this raypool renders in {}",
+                header.settings.real,
+                real_name()
+            ));
         }
         let tiles = read_tiles(data, &header)?;
         Ok(Part { header, tiles })

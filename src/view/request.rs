@@ -13,7 +13,7 @@ use clap::Parser;
 use crate::cli::{RngChoice, ViewArgs, default_threads, load_scene, one_line, render_settings};
 use crate::error::Error;
 use crate::scenes::format::SceneFile;
-use crate::tracer::render::{RenderJob, default_height};
+use crate::tracer::render::RenderJob;
 use crate::view::session::Config;
 
 /// Largest pasted scene, bytes.
@@ -73,11 +73,7 @@ pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>)
     if let Some(eye) = lookfrom {
         move_camera(&mut scene, eye)?;
     }
-    let height = match image.height {
-        Some(h) => h,
-        None => default_height(image.width, scene.camera.aspect)?,
-    };
-    let settings = render_settings(image, height, args.rng)?;
+    let settings = render_settings(image, &scene, args.workers.rng)?;
     if settings.adaptive.is_some() {
         return Err(Error::new("the viewer renders progressive passes, not adaptive sampling"));
     }
@@ -85,10 +81,10 @@ pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>)
         name,
         job: RenderJob::new(image.accel.apply(scene.to_scene()), settings).into(),
         scene,
-        threads: args.threads.map_or_else(default_threads, |t| t as usize),
-        mode: args.mode,
+        threads: args.workers.threads.map_or_else(default_threads, |t| t as usize),
+        mode: args.workers.mode,
         tile: image.tile,
-        shared_rng: args.rng == RngChoice::Shared,
+        shared_rng: args.workers.rng == RngChoice::Shared,
     })
 }
 

@@ -114,14 +114,7 @@ impl Session {
     /// Cancels the running render and starts `config`; returns the new generation number.
     pub fn restart(self: &Arc<Session>, config: Config) -> u64 {
         let _one_at_a_time = self.restarting.lock();
-        let old = {
-            let mut current = self.current.lock();
-            current.cancel.cancel();
-            current.thread.take()
-        };
-        if let Some(thread) = old {
-            let _ = thread.join();
-        }
+        self.cancel_running();
         let mut current = self.current.lock();
         let (generation, config, cancel) = (current.generation + 1, Arc::new(config), Cancel::default());
         let thread = {
@@ -138,6 +131,13 @@ impl Session {
     /// Cancels the running render and waits for it (Ctrl-C); pages' streams end.
     pub fn stop(&self) {
         let _one_at_a_time = self.restarting.lock();
+        self.cancel_running();
+        self.pages.lock().senders.clear();
+    }
+
+    /// Cancels the running render and waits for its thread, outside the `current` lock (the
+    /// render thread takes locks of its own until its jobs have seen the flag).
+    fn cancel_running(&self) {
         let thread = {
             let mut current = self.current.lock();
             current.cancel.cancel();
@@ -146,7 +146,6 @@ impl Session {
         if let Some(thread) = thread {
             let _ = thread.join();
         }
-        self.pages.lock().senders.clear();
     }
 
     /// The running render's settings and generation.
