@@ -3,7 +3,8 @@
 //! 1-spp frame is on screen, and how many updates a second the page receives while rendering.
 //! Both are measured inside the page (`performance.now()`: the request sent → the frame
 //! painted, at the next animation frame; events arrived in the last second). Writes
-//! `results/view.md` and the screenshot `results/view.png`.
+//! `results/view.md` and the screenshot `results/view.png`; viewer flags after `--` are added
+//! (`cargo bench --bench view -- --sampler independent`).
 
 #[path = "../tests/common/mod.rs"]
 mod common;
@@ -18,7 +19,11 @@ const MOVES: usize = 25;
 
 fn main() {
     let binary = chromium().expect("the view benchmark needs Chromium: apt-get install -y chromium");
-    let flags = ["--scene", "final", "--width", "400", "--spp", "1024", "--threads", "2"];
+    // Extra viewer flags may follow `--` (e.g. `-- --sampler independent`); cargo's own
+    // `--bench` flag is not one of them.
+    let extra: Vec<String> = std::env::args().skip(1).filter(|a| a != "--bench").collect();
+    let mut flags = vec!["--scene", "final", "--width", "400", "--spp", "1024", "--threads", "2"];
+    flags.extend(extra.iter().map(String::as_str));
     let viewer = Viewer::start(&flags);
     let mut page = Browser::open(&binary, &viewer.url, (1280, 860));
     page.wait_for("document.body.dataset.spp >= 1", Duration::from_secs(60));
