@@ -267,20 +267,14 @@ impl Study {
             text += &format!("\n{:<12}", mode.name());
             for &t in &self.threads {
                 let p = predict(&self.costs, mode, t);
-                text += &format!("{:>15}", format!("{:.2}x ({:.2})", p.speedup, p.imbalance));
+                text += &format!("{:>15}", format!("{:.2}× ({:.2})", p.speedup, p.imbalance));
             }
         }
         text += "\n  (predicted speedup over serial, and imbalance = busiest ÷ mean worker)\n";
         for (m, p) in self.validation() {
+            let [mode, threads, predicted, measured, gap, pi, mi] = validation_cells(&m, &p);
             text += &format!(
-                "{:<12}{:>4} threads: predicted {:.2}x, measured {:.2}x ({:+.1}%), imbalance predicted {:.2}, measured {:.2}\n",
-                m.mode.name(),
-                m.threads,
-                p.speedup,
-                m.speedup,
-                (m.speedup / p.speedup - 1.0) * 100.0,
-                p.imbalance,
-                m.imbalance
+                "{mode:<12}{threads:>4} threads: predicted {predicted}, measured {measured} ({gap}), imbalance predicted {pi}, measured {mi}\n"
             );
         }
         text
@@ -290,6 +284,20 @@ impl Study {
     pub fn validation(&self) -> Vec<(Measured, Prediction)> {
         self.measured.iter().map(|m| (*m, predict(&self.costs, m.mode, m.threads))).collect()
     }
+}
+
+/// A measured run beside its prediction, formatted: mode, threads, predicted and measured
+/// speedup, the gap (measured ÷ predicted − 1), predicted and measured imbalance.
+fn validation_cells(m: &Measured, p: &Prediction) -> [String; 7] {
+    [
+        m.mode.name().to_string(),
+        m.threads.to_string(),
+        format!("{:.2}×", p.speedup),
+        format!("{:.2}×", m.speedup),
+        format!("{:+.1}%", (m.speedup / p.speedup - 1.0) * 100.0),
+        format!("{:.2}", p.imbalance),
+        format!("{:.2}", m.imbalance),
+    ]
 }
 
 /// Writes `dir/scaling.md`, `scaling.csv` and `scaling.png` for `study`.
@@ -376,16 +384,8 @@ fn markdown(study: &Study, machine: &Machine) -> String {
                  | mode | threads | predicted | measured | gap | imbalance predicted | imbalance measured |\n|---|---:|---:|---:|---:|---:|---:|\n"
             );
             for (m, p) in study.validation() {
-                md += &format!(
-                    "| `{}` | {} | {:.2}× | {:.2}× | {:+.1}% | {:.2} | {:.2} |\n",
-                    m.mode.name(),
-                    m.threads,
-                    p.speedup,
-                    m.speedup,
-                    (m.speedup / p.speedup - 1.0) * 100.0,
-                    p.imbalance,
-                    m.imbalance
-                );
+                let [mode, threads, predicted, measured, gap, pi, mi] = validation_cells(&m, &p);
+                md += &format!("| `{mode}` | {threads} | {predicted} | {measured} | {gap} | {pi} | {mi} |\n");
             }
         }
     }
