@@ -43,7 +43,10 @@ struct Cluster {
 
 impl Cluster {
     fn start(dir: &Path) -> Cluster {
-        let ports = format!("{} {}", free_port(), free_port());
+        // Two free ports, both held until both are known, so they cannot be the same one.
+        let (a, b) = (free_port(), free_port());
+        let ports = format!("{} {}", a.local_addr().unwrap().port(), b.local_addr().unwrap().port());
+        drop((a, b));
         let script = format!("{REPO}/examples/slurm/local-cluster.sh");
         let out = run(&script, &["start", dir.to_str().unwrap()], &[("SLURM_PORTS", &ports)]);
         let cluster = Cluster { dir: dir.to_owned(), conf: dir.join("slurm.conf").display().to_string() };
@@ -79,8 +82,9 @@ fn alive(pid: u32) -> bool {
     stat.rsplit_once(')').is_some_and(|(_, rest)| !rest.trim_start().starts_with('Z'))
 }
 
-fn free_port() -> u16 {
-    TcpListener::bind("127.0.0.1:0").unwrap().local_addr().unwrap().port()
+/// A listener on a port the system chose; the port is free again once it is dropped.
+fn free_port() -> TcpListener {
+    TcpListener::bind("127.0.0.1:0").unwrap()
 }
 
 /// The state of job `id` once it has ended, waiting at most `limit`.
