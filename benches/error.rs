@@ -35,7 +35,11 @@ const METHODS: [(&str, Sampler, bool); 4] = [
 ];
 
 const SCENES: [&str; 5] = ["final", "paper1", "paper2", "paper3", "three-spheres"];
-const TARGETS: [Real; 4] = [0.2, 0.1, 0.05, 0.025];
+const TARGETS: [Real; 5] = [0.4, 0.2, 0.1, 0.05, 0.025];
+
+/// The adaptive methods: (name, sampler).
+const ADAPTIVE: [(&str, Sampler); 2] =
+    [("adaptive", Sampler::Independent), ("sobol adaptive", Sampler::Sobol)];
 const PRECISION: &str = if cfg!(feature = "f64") { "f64" } else { "f32" };
 
 struct Config {
@@ -49,7 +53,7 @@ struct Config {
 struct Row {
     scene: String,
     precision: String,
-    /// One of [`METHODS`]' names, or "adaptive" (independent numbers).
+    /// One of [`METHODS`]' or [`ADAPTIVE`]'s names.
     method: String,
     /// spp for uniform; the target error for adaptive.
     setting: f64,
@@ -104,15 +108,17 @@ fn main() {
             spp *= 2;
         }
         for target_error in TARGETS {
-            let adaptive = Some(Adaptive { target_error, min_spp: config.min_spp });
-            let settings = RenderSettings { spp: 4 * config.max_spp, adaptive, ..base };
-            let (out, seconds) = timed_render(scene.clone(), settings, threads);
-            rows.push(row(name, "adaptive", target_error as f64, &out, seconds, &reference, base));
-            let r = rows.last().unwrap();
-            eprintln!(
-                "{name} {PRECISION} E {target_error}: {:.1} spp, {seconds:.3} s, rmse {:.3e}",
-                r.mean_spp, r.rmse
-            );
+            for (method, sampler) in ADAPTIVE {
+                let adaptive = Some(Adaptive { target_error, min_spp: config.min_spp });
+                let settings = RenderSettings { spp: 4 * config.max_spp, adaptive, sampler, ..base };
+                let (out, seconds) = timed_render(scene.clone(), settings, threads);
+                rows.push(row(name, method, target_error as f64, &out, seconds, &reference, base));
+                let r = rows.last().unwrap();
+                eprintln!(
+                    "{name} {PRECISION} {method} E {target_error}: {:.1} spp, {seconds:.3} s, rmse {:.3e}",
+                    r.mean_spp, r.rmse
+                );
+            }
         }
     }
     let csv: String = rows
@@ -271,18 +277,20 @@ fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads
     md += &format!(
         "\n## Adaptive sampling against uniform, at equal error\n\nAdaptive: `--target-error E --min-spp {} \
          --max-spp {}`. \"Uniform time\" is the time uniform sampling needs for the same RMSE, from the power law \
-         fitted to its runs of 4–512 spp; the gain is uniform time ÷ adaptive time.\n\n| scene | precision | E | mean spp | time (s) | RMSE | uniform time (s) | gain |\n|---|---|---:|---:|---:|---:|---:|---:|\n",
+         fitted to its runs of 4–512 spp; the gain is uniform time ÷ adaptive time.\n\n| scene | method | precision | E | mean spp | time (s) | RMSE | uniform time (s) | gain |\n|---|---|---|---:|---:|---:|---:|---:|---:|\n",
         config.min_spp,
         4 * config.max_spp
     );
     for scene in SCENES {
         for precision in ["f32", "f64"] {
             let uniform = select(rows, scene, precision, "independent");
-            for r in select(rows, scene, precision, "adaptive") {
+            let adaptive = ADAPTIVE.iter().flat_map(|(method, _)| select(rows, scene, precision, method));
+            for r in adaptive {
                 let t = uniform_time_for(&uniform, r.rmse);
                 let _ = writeln!(
                     md,
-                    "| {scene} | {precision} | {:.3} | {:.1} | {:.3} | {:.3e} | {t:.3} | {:.2}× |",
+                    "| {scene} | {} | {precision} | {:.3} | {:.1} | {:.3} | {:.3e} | {t:.3} | {:.2}× |",
+                    r.method,
                     r.setting,
                     r.mean_spp,
                     r.seconds,
@@ -299,8 +307,8 @@ fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads
 /// RMSE and by relative MSE, and Sobol's slope.
 fn headline(rows: &[Row], max_spp: u32) -> String {
     let mut md = format!(
-        "## Time to the error of independent uniform sampling at {max_spp} spp\n\nFor each method, the time at which \
-         its error-against-time curve crosses the error that independent uniform sampling reaches at {max_spp} spp, \
+        "## Time to the error of independent uniform sampling at {max_spp} spp\n\nFor each method (adaptive ones along \
+         their target errors E = 0.4 … 0.025), the time at which its error-against-time curve crosses the error that independent uniform sampling reaches at {max_spp} spp, \
          interpolated log–log between the two runs around the crossing; the ratio is that time ÷ independent \
          uniform sampling's own time at {max_spp} spp (below 1: faster to the same error). \"+rr\": Russian \
          roulette. Single runs on a shared machine: times carry ±10%.\n\n\
@@ -309,7 +317,7 @@ fn headline(rows: &[Row], max_spp: u32) -> String {
     for scene in SCENES {
         let independent = select(rows, scene, "f32", "independent");
         let Some(goal) = independent.iter().find(|r| r.setting == f64::from(max_spp)) else { continue };
-        for (method, _, _) in METHODS {
+        for method in METHODS.iter().map(|m| m.0).chain(ADAPTIVE.iter().map(|m| m.0)) {
             let runs = select(rows, scene, "f32", method);
             let cell = |error: fn(&Row) -> f64| match time_to_reach(&runs, error(goal), error) {
                 Some(t) => format!("{t:.3} | {:.2}×", t / goal.seconds),
@@ -358,7 +366,7 @@ fn time_to_reach(runs: &[&Row], goal: f64, error: fn(&Row) -> f64) -> Option<f64
 fn plot(rows: &[Row], path: &Path, footer: &str) {
     // One line per method on `final` (the other scenes are in the tables).
     let mut series = Vec::new();
-    let methods = METHODS.iter().map(|m| m.0).chain(["adaptive"]);
+    let methods = METHODS.iter().map(|m| m.0).chain(ADAPTIVE.iter().map(|m| m.0));
     for method in methods {
         let points: Vec<(f64, f64)> = select(rows, "final", "f32", method)
             .iter()
@@ -367,8 +375,8 @@ fn plot(rows: &[Row], path: &Path, footer: &str) {
             .collect();
         if !points.is_empty() {
             let label =
-                if method == "adaptive" { "adaptive (independent)".to_string() } else { method.to_string() };
-            series.push(LogSeries { label, points, triangles: method == "adaptive" });
+                if method == "adaptive" { "independent adaptive".to_string() } else { method.to_string() };
+            series.push(LogSeries { label, points, triangles: method.ends_with("adaptive") });
         }
     }
     log_log_plot(

@@ -114,11 +114,12 @@ pub struct ImageArgs {
     /// Samples per pixel.
     #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "target_error")]
     pub spp: u32,
-    /// Adaptive sampling: stop sampling a pixel once the relative standard error of its mean
-    /// luminance is below this (e.g. 0.02), checked every --min-spp samples.
+    /// Adaptive sampling in whole-image passes: a pixel stops once, averaged over its 3 x 3
+    /// window, the means of its even and of its odd samples differ by less than E times the
+    /// square root of its brightness (e.g. 0.02); its neighbours go on while it does not.
     #[arg(long, value_name = "E", value_parser = positive_fraction, allow_negative_numbers = true)]
     pub target_error: Option<f64>,
-    /// With --target-error: samples every pixel takes first, and per pass.
+    /// With --target-error: samples every pixel takes first (then passes double them).
     #[arg(long, default_value_t = 16, requires = "target_error", value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub min_spp: u32,
     /// With --target-error: the most samples a pixel takes.

@@ -2,7 +2,7 @@
 //! only way to render a tile; [`modes`] holds the [`modes::Scheduler`] trait and the six
 //! built-in ways to share a frame's tiles among threads (static blocks, interleaved rows, the
 //! two pools, stealing); [`progressive`] refines an image pass after pass, cancellably, on
-//! any of them; [`conformance`] is the check a student's scheduler must pass.
+//! any of them, and [`adaptive`] spends those passes where the image is still noisy; [`conformance`] is the check a student's scheduler must pass.
 //!
 //! It may use [`crate::tracer`], [`crate::files`] (a frame is assembled into an
 //! [`crate::files::image::Image`]), [`crate::scenes`] (the conformance check renders a built-in
@@ -11,4 +11,5 @@
 pub mod frame;
 pub mod modes;
 pub mod progressive;
+pub mod adaptive;
 pub mod conformance;

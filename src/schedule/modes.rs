@@ -18,6 +18,7 @@ use std::sync::Arc;
 use pool::{Discipline, ThreadPool};
 
 use crate::files::image::Image;
+use crate::schedule::adaptive::render_adaptive;
 use crate::schedule::frame::Frame;
 use crate::tracer::render::{TileOutput, TileTiming};
 use crate::tracer::tile::Tile;
@@ -182,13 +183,18 @@ impl Rendered {
     }
 }
 
-/// Renders `frame` with `scheduler`.
+/// Renders `frame` with `scheduler` (adaptively, in passes, when its settings ask for it).
 ///
 /// # Panics
 /// If the scheduler breaks its contract (a pixel rendered twice or never).
 pub fn render(frame: &Arc<Frame>, scheduler: &dyn Scheduler) -> Rendered {
-    let tiles = scheduler.render(frame);
-    let image = frame.assemble(&tiles).unwrap_or_else(|e| panic!("scheduler broke its contract: {e}"));
+    let (image, tiles) = match frame.job().settings.adaptive {
+        Some(adaptive) => render_adaptive(frame, adaptive, |pass| scheduler.render(pass)),
+        None => {
+            let tiles = scheduler.render(frame);
+            (frame.assemble(&tiles).unwrap_or_else(|e| panic!("scheduler broke its contract: {e}")), tiles)
+        }
+    };
     Rendered {
         image,
         rays: tiles.iter().map(|t| t.rays).sum(),

@@ -26,13 +26,16 @@ use crate::tracer::tile::Tile;
 /// Every tile's running sums, shared by the passes of one progressive render.
 pub type Sums = Arc<Mutex<HashMap<Tile, PixelSums>>>;
 
-/// One pass of a progressive render: which samples it adds, and the sums it adds them to.
+/// One pass of a progressive render: which samples it adds, to which pixels, and the sums it
+/// adds them to.
 #[derive(Clone, Debug)]
 pub struct Pass {
-    /// Sample numbers this pass adds to every pixel.
+    /// Sample numbers this pass adds to every pixel it samples.
     pub samples: Range<u32>,
     /// The render's running sums.
     pub sums: Sums,
+    /// Which pixels it samples (row-major over the image, `true`: sample); all when `None`.
+    pub active: Option<Arc<Vec<bool>>>,
 }
 
 impl Pass {
@@ -40,9 +43,15 @@ impl Pass {
     /// means over samples `0..self.samples.end`.
     pub fn render<S: RandomStreams>(&self, job: &RenderJob, streams: &S, tile: Tile) -> TileOutput {
         let mut sums = self.sums.lock().remove(&tile).unwrap_or_else(|| PixelSums::new(tile.area()));
-        let rays = accumulate_tile(job, streams, tile, self.samples.clone(), &mut sums);
-        let samples = u64::from(self.samples.end - self.samples.start) * tile.area() as u64;
-        let out = TileOutput { tile, pixels: sums.means(), rays, samples, timing: None };
+        let before = sums.samples();
+        let width = job.settings.width as usize;
+        let samples = |i: u32, j: u32| match &self.active {
+            Some(active) if !active[j as usize * width + i as usize] => 0..0,
+            _ => self.samples.clone(),
+        };
+        let rays = accumulate_tile(job, streams, tile, samples, &mut sums);
+        let out =
+            TileOutput { tile, pixels: sums.means(), rays, samples: sums.samples() - before, timing: None };
         self.sums.lock().insert(tile, sums);
         out
     }

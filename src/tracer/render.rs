@@ -86,69 +86,24 @@ impl Default for RenderSettings {
 /// where most of its light comes from, so they are never cut).
 pub const ROULETTE_AFTER: u32 = 4;
 
-/// Adaptive sampling: each pixel is sampled in passes of `min_spp` samples, and stops once
-/// the estimated relative standard error of its mean luminance falls below `target_error`
-/// (or it reaches the settings' `spp`).
-///
-/// A pixel's decision depends only on its own samples, whose random streams depend only on
-/// (seed, pixel, sample), so the image stays identical whatever the scheduler.
+/// Adaptive sampling, in whole-image passes (see [`crate::schedule::adaptive`]): every pixel
+/// takes `min_spp` samples, then passes double the samples of the pixels not yet converged
+/// until the settings' `spp`. A pixel is converged when, averaged over its 3 × 3 window, its
+/// two half-estimates (even and odd samples) differ by less than `target_error` relative to
+/// the square root of its brightness; it keeps sampling while any pixel of its window has not
+/// converged.
 ///
 /// ```
 /// use raypool::tracer::render::Adaptive;
-/// use raypool::tracer::render::LuminanceStats;
 /// let adaptive = Adaptive { target_error: 0.02, min_spp: 16 };
-/// let mut steady = LuminanceStats::default();
-/// (0..16).for_each(|_| steady.push(0.5));
-/// assert!(adaptive.done(&steady), "sixteen equal samples: zero error");
-/// let mut noisy = LuminanceStats::default();
-/// (0..16).for_each(|k| noisy.push(if k % 2 == 0 { 0.0 } else { 1.0 }));
-/// assert!(!adaptive.done(&noisy), "a standard error of 0.13 on a mean of 0.5");
+/// assert!(adaptive.target_error > 0.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Adaptive {
-    /// Target relative standard error of each pixel's mean luminance (e.g. 0.02).
+    /// Target difference of the two half-estimates, relative to √brightness (e.g. 0.02).
     pub target_error: Real,
-    /// Samples every pixel takes first, and the size of each further pass.
+    /// Samples every pixel takes first (rounded up to an even number).
     pub min_spp: u32,
-}
-
-/// Running sums of one pixel's sample luminances, for its standard error.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct LuminanceStats {
-    n: u32,
-    sum: f64,
-    sum_sq: f64,
-}
-
-impl LuminanceStats {
-    /// Counts one more sample, of luminance `l`.
-    pub fn push(&mut self, l: Real) {
-        let l = f64::from(l);
-        (self.n, self.sum, self.sum_sq) = (self.n + 1, self.sum + l, self.sum_sq + l * l);
-    }
-}
-
-/// Below this mean luminance a pixel's error is judged against this value instead: a
-/// relative error of a nearly black pixel is neither measurable nor visible.
-const DARK: f64 = 0.05;
-
-impl Adaptive {
-    /// Whether a pixel with these statistics has been sampled enough.
-    pub fn done(&self, stats: &LuminanceStats) -> bool {
-        let n = f64::from(stats.n);
-        if stats.n < self.min_spp.max(2) {
-            return false;
-        }
-        let mean = stats.sum / n;
-        let variance = ((stats.sum_sq - stats.sum * mean) / (n - 1.0)).max(0.0);
-        let standard_error = (variance / n).sqrt();
-        standard_error <= f64::from(self.target_error) * mean.max(DARK)
-    }
-}
-
-/// Rec. 709 luminance of a linear RGB value.
-fn luminance(c: Vec3) -> Real {
-    0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
 
 /// A rendered tile: its pixels (row-major, linear RGB means) and how many rays it cast.
@@ -199,7 +154,7 @@ impl RenderJob {
 /// Renders every pixel of `tile`, drawing each sample's random numbers from `streams`.
 pub fn render_tile<S: RandomStreams>(job: &RenderJob, streams: &S, tile: Tile) -> TileOutput {
     let mut sums = PixelSums::new(tile.area());
-    let rays = accumulate_tile(job, streams, tile, 0..job.settings.spp, &mut sums);
+    let rays = accumulate_tile(job, streams, tile, |_, _| 0..job.settings.spp, &mut sums);
     TileOutput { tile, pixels: sums.means(), rays, samples: sums.samples(), timing: None }
 }
 
@@ -209,16 +164,20 @@ pub fn render_tile<S: RandomStreams>(job: &RenderJob, streams: &S, tile: Tile) -
 /// f32's spacing is 0.03, and every sample added is rounded to it (measured: up to 1.3·10⁻³
 /// relative at 2^20 samples, `results/accumulation.md`). Samples are always added in sample
 /// order, so a pixel's mean after `n` samples is the same bits however many passes added them.
+///
+/// Odd-numbered samples are also summed apart: the pixel's two half-estimates (even and odd
+/// samples) are independent, and their difference is what adaptive sampling judges it by.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PixelSums {
     sums: Vec<DVec3>,
+    odd: Vec<DVec3>,
     counts: Vec<u32>,
 }
 
 impl PixelSums {
     /// `pixels` pixels with no samples yet.
     pub fn new(pixels: usize) -> PixelSums {
-        PixelSums { sums: vec![DVec3::ZERO; pixels], counts: vec![0; pixels] }
+        PixelSums { sums: vec![DVec3::ZERO; pixels], odd: vec![DVec3::ZERO; pixels], counts: vec![0; pixels] }
     }
 
     /// Each pixel's mean (black before its first sample).
@@ -230,15 +189,18 @@ impl PixelSums {
     pub fn samples(&self) -> u64 {
         self.counts.iter().map(|&n| u64::from(n)).sum()
     }
+
+    /// Pixel `k`'s (sum of all samples, sum of its odd-numbered samples, sample count).
+    pub fn pixel(&self, k: usize) -> (DVec3, DVec3, u32) {
+        (self.sums[k], self.odd[k], self.counts[k])
+    }
 }
 
-/// Adds samples number `samples` (for example `0..1`, then `1..4`) of every pixel of `tile` to
-/// `sums` (the tile's pixels, row-major), drawing from `streams`; returns the rays cast. This
-/// is the one render loop: [`render_tile`] is one call of it for `0..spp`, and the viewer's
-/// progressive passes are successive calls.
-///
-/// Adaptive sampling judges a pixel on the samples of this call, so with
-/// [`RenderSettings::adaptive`] it must add them all in one call starting at 0.
+/// Adds samples `samples(i, j)` (sample numbers, for example `0..1`, then `1..4`; an empty
+/// range for a pixel that takes none) of every pixel `(i, j)` of `tile` to `sums` (the tile's
+/// pixels, row-major), drawing from `streams`; returns the rays cast. This is the one render
+/// loop: [`render_tile`] is one call of it for `0..spp`, the viewer's progressive passes and
+/// adaptive sampling's passes are successive calls.
 ///
 /// # Panics
 /// If `sums` does not hold `tile.area()` pixels.
@@ -246,7 +208,7 @@ pub fn accumulate_tile<S: RandomStreams>(
     job: &RenderJob,
     streams: &S,
     tile: Tile,
-    samples: std::ops::Range<u32>,
+    samples: impl Fn(u32, u32) -> std::ops::Range<u32>,
     sums: &mut PixelSums,
 ) -> u64 {
     assert_eq!(sums.sums.len(), tile.area(), "one running sum per pixel of the tile");
@@ -254,41 +216,20 @@ pub fn accumulate_tile<S: RandomStreams>(
     let mut rays = 0;
     let pixels =
         (tile.y..tile.y + tile.height).flat_map(|j| (tile.x..tile.x + tile.width).map(move |i| (i, j)));
-    for (((i, j), sum), count) in pixels.zip(&mut sums.sums).zip(&mut sums.counts) {
+    for (k, (i, j)) in pixels.enumerate() {
         let pixel = j as u64 * width + i as u64;
-        *count += accumulate_pixel(job, streams, (i, j), pixel, samples.clone(), sum, &mut rays);
-    }
-    rays
-}
-
-/// Adds samples `samples` of pixel `(i, j)` to `sum` (all of them, or until adaptive sampling
-/// says the pixel is done); returns how many it added.
-fn accumulate_pixel<S: RandomStreams>(
-    job: &RenderJob,
-    streams: &S,
-    (i, j): (u32, u32),
-    pixel: u64,
-    samples: std::ops::Range<u32>,
-    sum: &mut DVec3,
-    rays: &mut u64,
-) -> u32 {
-    let settings = &job.settings;
-    let mut stats = LuminanceStats::default();
-    let mut taken = 0;
-    for sample in samples {
-        let mut rng = streams.stream(pixel, sample as u64);
-        let ray = job.camera.ray(i, j, &mut rng);
-        let value = trace(&job.scene, ray, settings, &mut rng, rays);
-        *sum += to_dvec3(value);
-        taken += 1;
-        if let Some(adaptive) = &settings.adaptive {
-            stats.push(luminance(value));
-            if taken % adaptive.min_spp == 0 && adaptive.done(&stats) {
-                break;
+        for sample in samples(i, j) {
+            let mut rng = streams.stream(pixel, sample as u64);
+            let ray = job.camera.ray(i, j, &mut rng);
+            let value = to_dvec3(trace(&job.scene, ray, &job.settings, &mut rng, &mut rays));
+            sums.sums[k] += value;
+            if sample % 2 == 1 {
+                sums.odd[k] += value;
             }
+            sums.counts[k] += 1;
         }
     }
-    taken
+    rays
 }
 
 /// The radiance arriving along `ray`: the book's `ray_color`, as a loop. A path casts at
