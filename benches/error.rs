@@ -89,6 +89,16 @@ fn main() {
             "| {name} | {} × {height} | {} | {:.2e} |",
             config.width, reference.spp, reference.noise
         );
+        // One timed render of `method` (`setting`: its spp, or its target error), measured.
+        let measure = |method: &str, setting: f64, settings: RenderSettings| {
+            let (out, seconds) = timed_render(scene.clone(), settings, threads);
+            let r = row(name, method, setting, &out, seconds, &reference, base);
+            eprintln!(
+                "{name} {PRECISION} {method} {setting}: {:.1} spp, {seconds:.3} s, rmse {:.3e}, relmse {:.3e}",
+                r.mean_spp, r.rmse, r.rel_mse
+            );
+            r
+        };
         // Rounds over the spp, each running every method once, so the machine's drift over
         // the minutes hits the methods alike.
         // To twice the goal's spp, so a method noisier than independent sampling (roulette)
@@ -96,14 +106,7 @@ fn main() {
         let mut spp = 1;
         while spp <= 2 * config.max_spp {
             for (method, sampler, roulette) in METHODS {
-                let settings = RenderSettings { spp, sampler, roulette, ..base };
-                let (out, seconds) = timed_render(scene.clone(), settings, threads);
-                rows.push(row(name, method, spp as f64, &out, seconds, &reference, base));
-                let r = rows.last().unwrap();
-                eprintln!(
-                    "{name} {PRECISION} {method} {spp} spp: {seconds:.3} s, rmse {:.3e}, relmse {:.3e}",
-                    r.rmse, r.rel_mse
-                );
+                rows.push(measure(method, spp as f64, RenderSettings { spp, sampler, roulette, ..base }));
             }
             spp *= 2;
         }
@@ -111,13 +114,7 @@ fn main() {
             for (method, sampler) in ADAPTIVE {
                 let adaptive = Some(Adaptive { target_error, min_spp: config.min_spp });
                 let settings = RenderSettings { spp: 4 * config.max_spp, adaptive, sampler, ..base };
-                let (out, seconds) = timed_render(scene.clone(), settings, threads);
-                rows.push(row(name, method, target_error as f64, &out, seconds, &reference, base));
-                let r = rows.last().unwrap();
-                eprintln!(
-                    "{name} {PRECISION} {method} E {target_error}: {:.1} spp, {seconds:.3} s, rmse {:.3e}",
-                    r.mean_spp, r.rmse
-                );
+                rows.push(measure(method, target_error as f64, settings));
             }
         }
     }

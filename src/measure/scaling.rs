@@ -29,6 +29,7 @@ use crate::error::{Error, io_reason};
 use crate::files::output::write_text;
 use crate::measure::machine::Machine;
 use crate::measure::plot::{ModelLine, efficiency_plot};
+use crate::measure::speedup::median;
 use crate::schedule::frame::{Frame, RngSource};
 use crate::schedule::modes::{Rendered, Schedule, render};
 use crate::tracer::render::RenderJob;
@@ -68,14 +69,9 @@ pub fn measure_costs(job: RenderJob, tile: u32, passes: usize) -> Costs {
         }
     }
     Costs {
-        rows: row_times.into_iter().map(median).collect(),
-        tiles: tile_times.into_iter().map(median).collect(),
+        rows: row_times.into_iter().map(|mut v| median(&mut v)).collect(),
+        tiles: tile_times.into_iter().map(|mut v| median(&mut v)).collect(),
     }
-}
-
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
 }
 
 /// What the model predicts for one mode at one thread count.
@@ -200,7 +196,7 @@ pub fn measure_rounds(job: &RenderJob, tile: u32, threads: &[usize], rounds: usi
             runs.push(run_once(job, tile, mode, t));
         }
     }
-    let serial: Vec<f64> = runs[0].iter().map(|r| r.0).collect();
+    let mut serial: Vec<f64> = runs[0].iter().map(|r| r.0).collect();
     let measured = configs
         .iter()
         .zip(&runs)
@@ -208,12 +204,12 @@ pub fn measure_rounds(job: &RenderJob, tile: u32, threads: &[usize], rounds: usi
         .map(|(&(mode, threads), runs)| Measured {
             mode,
             threads,
-            seconds: median(runs.iter().map(|r| r.0).collect()),
-            speedup: median(serial.iter().zip(runs).map(|(s, r)| s / r.0).collect()),
-            imbalance: median(runs.iter().map(|r| r.1).collect()),
+            seconds: median(&mut runs.iter().map(|r| r.0).collect::<Vec<_>>()),
+            speedup: median(&mut serial.iter().zip(runs).map(|(s, r)| s / r.0).collect::<Vec<_>>()),
+            imbalance: median(&mut runs.iter().map(|r| r.1).collect::<Vec<_>>()),
         })
         .collect();
-    (median(serial), measured)
+    (median(&mut serial), measured)
 }
 
 /// One render of `job` with `mode` on `threads` threads: (seconds, imbalance).

@@ -144,7 +144,8 @@ fn paired_ratio(a: &[f64], b: &[f64]) -> f64 {
     median(&mut a.iter().zip(b).map(|(x, y)| x / y).collect::<Vec<_>>())
 }
 
-fn median(values: &mut [f64]) -> f64 {
+/// The median of `values` (the upper one of an even count); sorts them.
+pub fn median(values: &mut [f64]) -> f64 {
     values.sort_by(f64::total_cmp);
     values[values.len() / 2]
 }
