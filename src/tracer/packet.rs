@@ -29,6 +29,8 @@ pub struct Packet {
     radius: Lanes,
     /// Each lane's index in the scene's sphere array (for tie-breaking and the hit record).
     index: [u32; LANES],
+    /// Lanes in use (the first `len`).
+    len: u32,
 }
 
 impl Packet {
@@ -53,6 +55,7 @@ impl Packet {
             center: [[Real::NAN; LANES]; 3],
             radius: [Real::NAN; LANES],
             index: [Packet::EMPTY; LANES],
+            len: spheres.len() as u32,
         };
         for (lane, sphere) in spheres.iter().enumerate() {
             for axis in 0..3 {
@@ -64,9 +67,9 @@ impl Packet {
         packet
     }
 
-    /// The scene indices of the spheres in this packet.
-    pub fn indices(&self) -> impl Iterator<Item = usize> + '_ {
-        self.index.iter().filter(|&&i| i != Packet::EMPTY).map(|&i| i as usize)
+    /// The scene indices of the spheres in this packet: consecutive, from the first lane's.
+    pub fn indices(&self) -> std::ops::Range<usize> {
+        self.index[0] as usize..(self.index[0] + self.len) as usize
     }
 
     /// Offers every lane's hit to `closest`: the stable test of [`Sphere::intersect`], lane
