@@ -197,11 +197,15 @@ impl Sphere {
 }
 
 impl Hit {
-    /// A new ray leaving this hit in direction `dir`, started off the surface on the side
-    /// `dir` points to (outwards for reflection, inwards for refraction).
+    /// A new ray leaving this hit in the unit direction `dir` (a scattered direction is
+    /// one: `material.rs`), started off the surface on the side `dir` points to (outwards
+    /// for reflection, inwards for refraction).
     #[inline]
     pub fn spawn(&self, dir: Vec3) -> Ray {
+        debug_assert!((dir.length_squared() - 1.0).abs() < 1e-4, "a unit direction");
         let side = if dir.dot(self.normal) >= 0.0 { 1.0 } else { -1.0 };
-        Ray::new(self.point + (side * self.offset) * self.normal, dir)
+        // Not normalised again: a square root and a division on every bounce's critical
+        // path, for a vector already unit to within rounding.
+        Ray { origin: self.point + (side * self.offset) * self.normal, dir }
     }
 }
