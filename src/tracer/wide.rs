@@ -191,15 +191,14 @@ impl WideBvh {
                 let mut hit = [0u32; WIDTH];
                 let mut at = [0.0 as Real; WIDTH];
                 let mut count = 0;
-                for lane in 0..WIDTH {
+                for (lane, (&entry, &lane_child)) in near.iter().zip(&node.children).enumerate() {
                     if mask & 1 << lane != 0 {
-                        let entry = near[lane];
                         let mut j = count;
                         while j > 0 && at[j - 1] < entry {
                             (hit[j], at[j]) = (hit[j - 1], at[j - 1]);
                             j -= 1;
                         }
-                        (hit[j], at[j]) = (node.children[lane], entry);
+                        (hit[j], at[j]) = (lane_child, entry);
                         count += 1;
                     }
                 }
