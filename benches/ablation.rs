@@ -15,7 +15,7 @@ use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Schedule, render};
 use raypool::tracer::render::{RenderJob, RenderSettings};
-use raypool::tracer::sampler::{PerSample, SharedRng};
+use raypool::tracer::sampler::{PerSample, SharedRng, SobolStreams};
 use raypool::tracer::scene::{Accel, Scene};
 use raypool::tracer::sphere::Intersection;
 
@@ -26,18 +26,24 @@ struct Variant {
     kind: &'static str,
     scene: fn(Scene) -> Scene,
     settings: fn(RenderSettings) -> RenderSettings,
-    shared_rng: bool,
+    /// The random streams, from the seed.
+    streams: fn(u64) -> RngSource,
     /// Rounds to run (the flat loop is 8× slower: once is enough to see it).
     rounds: usize,
 }
 
-const VARIANTS: [Variant; 9] = [
+/// The default: independent numbers per pixel sample.
+fn per_sample(seed: u64) -> RngSource {
+    RngSource::PerSample(PerSample { seed })
+}
+
+const VARIANTS: [Variant; 10] = [
     Variant {
         name: "default (all on)",
         kind: "reference",
         scene: |s| s,
         settings: |s| s,
-        shared_rng: false,
+        streams: per_sample,
         rounds: 3,
     },
     Variant {
@@ -45,7 +51,7 @@ const VARIANTS: [Variant; 9] = [
         kind: "exact (tested)",
         scene: |s| s.with_accel(Accel::Binary),
         settings: |s| s,
-        shared_rng: false,
+        streams: per_sample,
         rounds: 3,
     },
     Variant {
@@ -53,7 +59,7 @@ const VARIANTS: [Variant; 9] = [
         kind: "exact (tested)",
         scene: |s| s.with_accel(Accel::WidePackets),
         settings: |s| s,
-        shared_rng: false,
+        streams: per_sample,
         rounds: 3,
     },
     Variant {
@@ -61,7 +67,7 @@ const VARIANTS: [Variant; 9] = [
         kind: "exact (tested)",
         scene: |s| s.with_accel(Accel::WideHugeApart),
         settings: |s| s,
-        shared_rng: false,
+        streams: per_sample,
         rounds: 3,
     },
     Variant {
@@ -69,7 +75,7 @@ const VARIANTS: [Variant; 9] = [
         kind: "exact (tested)",
         scene: Scene::without_bvh,
         settings: |s| s,
-        shared_rng: false,
+        streams: per_sample,
         rounds: 1,
     },
     Variant {
@@ -77,7 +83,7 @@ const VARIANTS: [Variant; 9] = [
         kind: "not exact: other rounding",
         scene: |s| s.with_intersection(Intersection::Textbook),
         settings: |s| s,
-        shared_rng: false,
+        streams: per_sample,
         rounds: 3,
     },
     Variant {
@@ -85,7 +91,7 @@ const VARIANTS: [Variant; 9] = [
         kind: "exact",
         scene: |s| s,
         settings: |s| RenderSettings { stop_black_paths: false, ..s },
-        shared_rng: false,
+        streams: per_sample,
         rounds: 3,
     },
     Variant {
@@ -93,7 +99,15 @@ const VARIANTS: [Variant; 9] = [
         kind: "unbiased: other noise",
         scene: |s| s,
         settings: |s| RenderSettings { roulette: true, ..s },
-        shared_rng: false,
+        streams: per_sample,
+        rounds: 3,
+    },
+    Variant {
+        name: "Sobol sampler (the command line's default) instead of independent numbers",
+        kind: "other noise: less error per sample",
+        scene: |s| s,
+        settings: |s| s,
+        streams: |seed| RngSource::Sobol(SobolStreams { seed }),
         rounds: 3,
     },
     Variant {
@@ -101,7 +115,7 @@ const VARIANTS: [Variant; 9] = [
         kind: "other noise",
         scene: |s| s,
         settings: |s| s,
-        shared_rng: true,
+        streams: |seed| RngSource::Shared(Arc::new(SharedRng::new(seed))),
         rounds: 3,
     },
 ];
@@ -115,11 +129,7 @@ struct Measured {
 fn run(variant: &Variant, base: RenderSettings) -> Measured {
     let scene = (variant.scene)(builtin_scene("final", DEFAULT_SCENE_SEED).expect("final exists").to_scene());
     let settings = (variant.settings)(base);
-    let rng = if variant.shared_rng {
-        RngSource::Shared(Arc::new(SharedRng::new(settings.seed)))
-    } else {
-        RngSource::PerSample(PerSample { seed: settings.seed })
-    };
+    let rng = (variant.streams)(settings.seed);
     let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 1, 16, Arc::new(|_| {})));
     let start = Instant::now();
     let out = render(&frame, &Schedule::Serial);
