@@ -6,13 +6,14 @@
 //!   largest surface area is replaced by its own two children until there are four (or only
 //!   leaves are left). A binary leaf (up to four spheres) becomes one [`Packet`]; the rare
 //!   larger leaf of spheres with one centre, a node of packets.
-//! - **Traversal.** A stack of `(child, entry distance)`. At a node the four child boxes are
-//!   tested in the lanes of one register; the children hit are pushed farthest first, so the
-//!   nearest is visited next and the closest hit shrinks the search early. A popped child
-//!   whose entry distance is beyond the closest hit is skipped. A leaf's spheres are tested
-//!   one by one ([`WideBvh::intersect_each`]: the default, because a scalar test stops at the
-//!   first negative discriminant) or four at once in SIMD lanes ([`WideBvh::intersect`]:
-//!   1–16% slower on `final` across four ablation runs, `results/perf.md`).
+//! - **Traversal.** At a node the four child boxes are tested in the lanes of one register;
+//!   the nearest child hit is visited at once and the others wait on a stack of
+//!   `(child, entry distance)`, nearest on top, so the closest hit shrinks the search early.
+//!   A waiting child whose entry distance is beyond the closest hit is skipped. A leaf's
+//!   spheres are tested one by one ([`WideBvh::intersect_each`]: the default, because a
+//!   scalar test stops at the first negative discriminant) or four at once in SIMD lanes
+//!   ([`WideBvh::intersect`]: 1–16% slower on `final` across five ablation runs,
+//!   `results/perf.md`).
 //! - **Exactness.** Ties go to the lower sphere index ([`Closest`]) and every box is padded
 //!   by the sphere test's own rounding bound (`bvh.rs`), so the hierarchy finds exactly the
 //!   hit that testing every sphere finds, whatever the order it visits them in.
