@@ -1,6 +1,7 @@
 //! The Sobol sampler (`--sampler sobol`): images identical under every scheduler and thread
-//! count, unbiased (its error keeps falling, faster than independent sampling's), a working
-//! fallback past the sequence's 2^16 samples, and part files that refuse to mix samplers.
+//! count, unbiased (its error keeps falling, faster than independent sampling's), two bounces
+//! per 4-D set, a working fallback past a use's dimensions and past the sequence's 2^16
+//! samples, and part files that refuse to mix samplers.
 
 use std::process::Command;
 use std::sync::Arc;
@@ -100,6 +101,34 @@ fn past_the_sequence_samples_draw_independent_numbers() {
         render_tile(&RenderJob::new(scene, settings), &streams, Tile { x: 0, y: 0, width: 1, height: 1 });
     assert_eq!(out.samples, SOBOL_SAMPLES + 4000);
     assert!(out.pixels[0].is_finite() && out.pixels[0].max_element() > 0.0, "{:?}", out.pixels[0]);
+}
+
+#[test]
+fn two_bounces_share_a_set_and_extra_draws_are_independent() {
+    use raypool::tracer::sampler::SampleRng;
+    let streams = SobolStreams { seed: 4 };
+    // Over 16 samples of a pixel, bounce 0's first number and bounce 1's first number (the
+    // set's dimensions 0 and 2) each fill the sixteen strata: both are Sobol dimensions.
+    let firsts = |bounce: u32| {
+        let mut strata: Vec<usize> = (0..16)
+            .map(|s| {
+                let mut stream = streams.stream(7, s);
+                (0..=bounce).for_each(|b| stream.bounce(b));
+                (uniform(&mut stream) * 16.0) as usize
+            })
+            .collect();
+        strata.sort_unstable();
+        strata
+    };
+    assert_eq!(firsts(0), (0..16).collect::<Vec<_>>());
+    assert_eq!(firsts(1), (0..16).collect::<Vec<_>>());
+    // A third draw in one bounce (Russian roulette after a direction) is past the bounce's two
+    // dimensions: the independent stream's first number for that sample.
+    let mut stream = streams.stream(7, 3);
+    stream.bounce(0);
+    let (a, b) = (uniform(&mut stream), uniform(&mut stream));
+    assert_ne!(a, b);
+    assert_eq!(uniform(&mut stream), uniform(&mut PerSample { seed: 4 }.stream(7, 3)));
 }
 
 #[test]
