@@ -25,25 +25,29 @@ use crate::schedule::progressive::{Pass, Sums};
 use crate::tracer::render::{Adaptive, TileOutput};
 
 /// Renders `frame` adaptively by `adaptive`, each pass by `run_pass` (a scheduler's render);
-/// returns the image and every pass's tiles (for their rays, samples and timings).
+/// returns the image (the last pass's tiles carry every pixel's mean) and every pass's tiles
+/// (for their rays, samples and timings). An error names a pixel a pass left out or rendered
+/// twice (a scheduler breaking its contract).
 pub fn render_adaptive(
     frame: &Arc<Frame>,
     adaptive: Adaptive,
     mut run_pass: impl FnMut(&Arc<Frame>) -> Vec<TileOutput>,
-) -> (Image, Vec<TileOutput>) {
+) -> Result<(Image, Vec<TileOutput>), String> {
     let settings = frame.job().settings;
     let (width, height) = (settings.width as usize, settings.height as usize);
     let sums = Sums::default();
     let mut active = vec![true; width * height];
     let (mut done, mut next) = (0, adaptive.min_spp.max(2).next_multiple_of(2).min(settings.spp));
-    let mut tiles = Vec::new();
+    let (mut image, mut tiles) = (None, Vec::new());
     while next > 0 && active.iter().any(|&a| a) {
         let pass = Pass {
             samples: done..done + next,
             sums: Arc::clone(&sums),
             active: Some(Arc::new(active.clone())),
         };
-        tiles.extend(run_pass(&Arc::new(frame.as_ref().clone().with_pass(pass))));
+        let outputs = run_pass(&Arc::new(frame.as_ref().clone().with_pass(pass)));
+        image = Some(frame.assemble(&outputs)?);
+        tiles.extend(outputs);
         done += next;
         next = done.min(settings.spp - done);
         if next > 0 {
@@ -51,7 +55,7 @@ pub fn render_adaptive(
             active = still_going(&active, &halves, width, height, f64::from(adaptive.target_error));
         }
     }
-    (image(&sums, width, height), tiles)
+    Ok((image.expect("the first pass always runs: spp and min_spp are at least 1"), tiles))
 }
 
 /// Each pixel's `(|A − B|₁, |A + B|₁ / 2)`: the difference of its half-estimates `A` (even
@@ -102,20 +106,4 @@ fn still_going(
         })
         .collect();
     (0..width * height).map(|k| active[k] && window(k % width, k / width).any(|c| unconverged[c])).collect()
-}
-
-/// The image of the sums: each pixel's mean over the samples it took.
-fn image(sums: &Sums, width: usize, height: usize) -> Image {
-    let mut image = Image {
-        width: width as u32,
-        height: height as u32,
-        pixels: vec![Default::default(); width * height],
-    };
-    for (tile, tile_sums) in sums.lock().iter() {
-        for (row, chunk) in tile_sums.means().chunks_exact(tile.width as usize).enumerate() {
-            let start = (tile.y as usize + row) * width + tile.x as usize;
-            image.pixels[start..start + chunk.len()].copy_from_slice(chunk);
-        }
-    }
-    image
 }

@@ -192,9 +192,10 @@ pub fn render(frame: &Arc<Frame>, scheduler: &dyn Scheduler) -> Rendered {
         Some(adaptive) => render_adaptive(frame, adaptive, |pass| scheduler.render(pass)),
         None => {
             let tiles = scheduler.render(frame);
-            (frame.assemble(&tiles).unwrap_or_else(|e| panic!("scheduler broke its contract: {e}")), tiles)
+            frame.assemble(&tiles).map(|image| (image, tiles))
         }
-    };
+    }
+    .unwrap_or_else(|e| panic!("scheduler broke its contract: {e}"));
     Rendered {
         image,
         rays: tiles.iter().map(|t| t.rays).sum(),
