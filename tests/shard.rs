@@ -177,6 +177,10 @@ fn bad_parts_are_refused_by_name() {
         (vec!["render", "--shard", "one/3", "--out", "x.rpart"], "'one' is not a whole number"),
         (vec!["render", "--shard", "1/3", "--out", "x.png"], "writes a part file"),
         (vec!["render", "--shard", "1/3", "--rng", "shared", "--out", "x.rpart"], "use --rng per-sample"),
+        (
+            vec!["render", "--shard", "1/3", "--target-error", "0.1", "--out", "x.rpart"],
+            "use --spp with --shard",
+        ),
     ] {
         let out = raypool(&args, &dir);
         let stderr = String::from_utf8_lossy(&out.stderr);
