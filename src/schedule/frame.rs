@@ -66,10 +66,17 @@ pub struct Frame {
 }
 
 impl Frame {
-    /// A frame of `job`, to be computed on `threads` threads in tiles of `tile_size`.
-    pub fn new(job: RenderJob, rng: RngSource, threads: usize, tile_size: u32, progress: Progress) -> Frame {
+    /// A frame of `job` (owned, or shared as an `Arc` so that passes of one render do not copy
+    /// the scene), to be computed on `threads` threads in tiles of `tile_size`.
+    pub fn new(
+        job: impl Into<Arc<RenderJob>>,
+        rng: RngSource,
+        threads: usize,
+        tile_size: u32,
+        progress: Progress,
+    ) -> Frame {
         Frame {
-            job: Arc::new(job),
+            job: job.into(),
             rng,
             threads: threads.max(1),
             tile_size: tile_size.max(1),

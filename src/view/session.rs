@@ -213,11 +213,16 @@ impl Session {
                     }
                 })
             };
-            let frame =
-                Frame::new((*config.job).clone(), rng.clone(), config.threads, config.tile, Arc::new(|_| {}))
-                    .with_pass(Pass { samples: done..done + more, sums: Arc::clone(&sums), active: None })
-                    .with_cancel(cancel.clone())
-                    .with_tile_hook(hook);
+            let frame = Frame::new(
+                Arc::clone(&config.job),
+                rng.clone(),
+                config.threads,
+                config.tile,
+                Arc::new(|_| {}),
+            )
+            .with_pass(Pass { samples: done..done + more, sums: Arc::clone(&sums), active: None })
+            .with_cancel(cancel.clone())
+            .with_tile_hook(hook);
             let pass_start = Instant::now();
             let rendered = render(&Arc::new(frame), &config.mode);
             if cancel.is_cancelled() {
