@@ -202,21 +202,15 @@ fn read_csv(path: &Path) -> Vec<Row> {
         .filter_map(|line| {
             let f: Vec<&str> = line.split(',').collect();
             let num = |k: usize| f.get(k)?.parse::<f64>().ok();
-            // Files from before the samplers call independent uniform sampling "uniform",
-            // and have no relative MSE.
-            let method = match *f.get(2)? {
-                "uniform" => "independent",
-                other => other,
-            };
             Some(Row {
                 scene: f.first()?.to_string(),
                 precision: f.get(1)?.to_string(),
-                method: method.to_string(),
+                method: f.get(2)?.to_string(),
                 setting: num(3)?,
                 mean_spp: num(4)?,
                 seconds: num(5)?,
                 rmse: num(6)?,
-                rel_mse: num(7).unwrap_or(f64::NAN),
+                rel_mse: num(7)?,
             })
         })
         .collect()

@@ -27,6 +27,12 @@ pub struct Metrics {
     pub psnr: f64,
 }
 
+/// The weight of a squared error in the relative MSE, where the reference's value is
+/// `reference`: 1 ÷ (reference² + 0.01), so dark pixels count as much as bright ones.
+pub fn relative_weight(reference: f64) -> f64 {
+    1.0 / (reference * reference + 0.01)
+}
+
 /// Compares `image` with `reference`, both linear RGB of the same size.
 ///
 /// ```
@@ -41,7 +47,7 @@ pub fn metrics(image: &[[f32; 3]], reference: &[[f32; 3]]) -> Metrics {
     let mse = pairs().map(|(a, r)| (a - r).powi(2)).sum::<f64>() / n;
     Metrics {
         rmse: mse.sqrt(),
-        rel_mse: pairs().map(|(a, r)| (a - r).powi(2) / (r * r + 0.01)).sum::<f64>() / n,
+        rel_mse: pairs().map(|(a, r)| (a - r).powi(2) * relative_weight(r)).sum::<f64>() / n,
         mae: pairs().map(|(a, r)| (a - r).abs()).sum::<f64>() / n,
         max_error: pairs().map(|(a, r)| (a - r).abs()).fold(0.0, f64::max),
         psnr: -10.0 * mse.log10(),

@@ -14,10 +14,10 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use crate::files::image::Image;
-use crate::measure::compare::metrics;
+use crate::measure::compare::{metrics, relative_weight};
 use crate::schedule::frame::{Frame, RngSource};
 use crate::schedule::modes::{Rendered, Schedule, render};
-use crate::tracer::real::{Vec3, to_f32, to_f64};
+use crate::tracer::real::to_f32;
 use crate::tracer::render::{RenderJob, RenderSettings};
 use crate::tracer::scene::Scene;
 
@@ -77,17 +77,15 @@ impl Reference {
     /// as bright ones'. The reference's own share, (a − b)²/4 weighted alike, is taken out
     /// (0 if the measurement is below it).
     pub fn rel_mse_of(&self, image: &Image) -> f64 {
+        let reference = rgb(&self.image);
+        let error = metrics(&rgb(image), &reference).rel_mse;
         let [a, b] = &self.halves;
-        let values =
-            |img: &Image| img.pixels.iter().flat_map(|p| p.to_array()).map(to_f64).collect::<Vec<f64>>();
-        let (x, r, a, b) = (values(image), values(&self.image), values(a), values(b));
-        let (mut error, mut noise) = (0.0, 0.0);
-        for k in 0..x.len() {
-            let weight = 1.0 / (r[k] * r[k] + 0.01);
-            error += weight * (x[k] - r[k]).powi(2);
-            noise += weight * (a[k] - b[k]).powi(2) / 4.0;
-        }
-        ((error - noise) / x.len().max(1) as f64).max(0.0)
+        let halves = rgb(a).into_iter().flatten().zip(rgb(b).into_iter().flatten());
+        let noise: f64 = halves
+            .zip(reference.iter().flatten())
+            .map(|((a, b), &r)| relative_weight(f64::from(r)) * (f64::from(a) - f64::from(b)).powi(2) / 4.0)
+            .sum();
+        (error - noise / (reference.len() * 3).max(1) as f64).max(0.0)
     }
 }
 
@@ -103,10 +101,12 @@ pub fn timed_render(scene: Scene, settings: RenderSettings, threads: usize) -> (
 
 /// Root mean squared difference over every channel of every pixel.
 pub fn rmse(a: &Image, b: &Image) -> f64 {
-    let rgb = |p: &Vec3| [to_f32(p.x), to_f32(p.y), to_f32(p.z)];
-    let a: Vec<[f32; 3]> = a.pixels.iter().map(rgb).collect();
-    let b: Vec<[f32; 3]> = b.pixels.iter().map(rgb).collect();
-    metrics(&a, &b).rmse
+    metrics(&rgb(a), &rgb(b)).rmse
+}
+
+/// An image's pixels as f32 RGB triples, as [`metrics`] takes them.
+fn rgb(image: &Image) -> Vec<[f32; 3]> {
+    image.pixels.iter().map(|p| [to_f32(p.x), to_f32(p.y), to_f32(p.z)]).collect()
 }
 
 /// The power law `y = c · x^k` that fits `points` best in log–log space (least squares):
