@@ -12,8 +12,8 @@
 //!   A waiting child whose entry distance is beyond the closest hit is skipped. A leaf's
 //!   spheres are tested one by one ([`WideBvh::intersect_each`]: the default, because a
 //!   scalar test stops at the first negative discriminant) or four at once in SIMD lanes
-//!   ([`WideBvh::intersect`]: 1–16% slower on `final` across five ablation runs,
-//!   `results/perf.md`).
+//!   ([`WideBvh::intersect`]: 0.94–1.16× the time on `final` across six ablation runs,
+//!   slower in five, `results/perf.md`).
 //! - **Exactness.** Ties go to the lower sphere index ([`Closest`]) and every box is padded
 //!   by the sphere test's own rounding bound (`bvh.rs`), so the hierarchy finds exactly the
 //!   hit that testing every sphere finds, whatever the order it visits them in.
