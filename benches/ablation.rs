@@ -107,7 +107,7 @@ const VARIANTS: [Variant; 10] = [
         kind: "other noise: less error per sample",
         scene: |s| s,
         settings: |s| s,
-        streams: |seed| RngSource::Sobol(SobolStreams { seed }),
+        streams: |seed| RngSource::Sobol(SobolStreams::new(seed)),
         rounds: 3,
     },
     Variant {

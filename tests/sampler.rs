@@ -75,8 +75,28 @@ fn sobol_error_keeps_falling_and_beats_independent_sampling() {
 }
 
 #[test]
+fn the_sobol_table_computes_the_crates_points() {
+    // Every index of the sequence (2^16) under 64 scrambles, and under one scramble each,
+    // the same bits as the crate's own `sample_4d`.
+    let streams = SobolStreams::new(1);
+    for index in 0..SOBOL_SAMPLES as u32 {
+        let scramble = index.wrapping_mul(0x9E37_79B9) ^ 0x1234_5678;
+        assert_eq!(
+            streams.sample_4d(index, scramble),
+            sobol_burley::sample_4d(index, 0, scramble),
+            "{index}"
+        );
+    }
+    for scramble in (0..64u32).map(|k| k.wrapping_mul(0x85EB_CA6B)) {
+        for index in (0..SOBOL_SAMPLES as u32).step_by(97) {
+            assert_eq!(streams.sample_4d(index, scramble), sobol_burley::sample_4d(index, 0, scramble));
+        }
+    }
+}
+
+#[test]
 fn past_the_sequence_samples_draw_independent_numbers() {
-    let streams = SobolStreams { seed: 3 };
+    let streams = SobolStreams::new(3);
     // Inside the sequence: the first draw of 2^k consecutive samples is stratified.
     let mut strata: Vec<usize> =
         (0..64).map(|s| (uniform(&mut streams.stream(5, s)) * 64.0) as usize).collect();
@@ -106,7 +126,7 @@ fn past_the_sequence_samples_draw_independent_numbers() {
 #[test]
 fn two_bounces_share_a_set_and_extra_draws_are_independent() {
     use raypool::tracer::sampler::SampleRng;
-    let streams = SobolStreams { seed: 4 };
+    let streams = SobolStreams::new(4);
     // Over 16 samples of a pixel, bounce 0's first number and bounce 1's first number (the
     // set's dimensions 0 and 2) each fill the sixteen strata: both are Sobol dimensions.
     let firsts = |bounce: u32| {

@@ -37,7 +37,7 @@ impl RngSource {
     pub fn streams(settings: &RenderSettings) -> RngSource {
         match settings.sampler {
             Sampler::Independent => RngSource::PerSample(PerSample { seed: settings.seed }),
-            Sampler::Sobol => RngSource::Sobol(SobolStreams { seed: settings.seed }),
+            Sampler::Sobol => RngSource::Sobol(SobolStreams::new(settings.seed)),
         }
     }
 }

@@ -12,9 +12,12 @@
 //! Hash-based Owen Scrambling"), scrambled per pixel and indexed by the sample number, so a
 //! pixel's samples fill each 4-dimensional use evenly instead of by chance.
 
+use std::sync::Arc;
+
 use rand::rngs::SmallRng;
 use rand::{Rng, RngExt, SeedableRng};
 use rand_xoshiro::SplitMix64;
+use sobol_burley::parts::{self, Int4};
 
 use crate::tracer::real::{Real, Vec3, consts::TAU};
 
@@ -103,38 +106,104 @@ impl RandomStreams for PerSample {
 ///
 /// ```
 /// use raypool::tracer::sampler::{RandomStreams, SobolStreams, uniform};
-/// let streams = SobolStreams { seed: 1 };
+/// let streams = SobolStreams::new(1);
 /// // The first 16 samples of a pixel put exactly one jitter x in each sixteenth of [0, 1).
 /// let mut strata: Vec<usize> = (0..16).map(|s| (uniform(&mut streams.stream(42, s)) * 16.0) as usize).collect();
 /// strata.sort();
 /// assert_eq!(strata, (0..16).collect::<Vec<_>>());
 /// ```
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct SobolStreams {
     /// The render seed (`--seed`).
-    pub seed: u64,
+    seed: u64,
+    table: Arc<SobolTable>,
 }
 
 /// The most samples per pixel the Sobol sequence holds; later samples draw independent numbers.
 pub const SOBOL_SAMPLES: u64 = 1 << 16;
 
-impl RandomStreams for SobolStreams {
-    type Stream<'a> = SobolStream;
+impl SobolStreams {
+    /// The streams of render seed `seed` (`--seed`).
+    pub fn new(seed: u64) -> SobolStreams {
+        SobolStreams { seed, table: Arc::new(SobolTable::new()) }
+    }
 
-    fn stream(&self, pixel: u64, sample: u64) -> SobolStream {
+    /// Point `index` (below [`SOBOL_SAMPLES`]) of the four dimensions every set uses, Owen
+    /// scrambled by `scramble`: exactly `sobol_burley::sample_4d(index, 0, scramble)`, computed
+    /// faster (see `SobolTable`).
+    ///
+    /// ```
+    /// use raypool::tracer::sampler::SobolStreams;
+    /// let streams = SobolStreams::new(1);
+    /// assert_eq!(streams.sample_4d(5, 77), sobol_burley::sample_4d(5, 0, 77));
+    /// ```
+    pub fn sample_4d(&self, index: u32, scramble: u32) -> [f32; 4] {
+        self.table.sample_4d(index, scramble)
+    }
+}
+
+impl RandomStreams for SobolStreams {
+    type Stream<'a> = SobolStream<'a>;
+
+    fn stream(&self, pixel: u64, sample: u64) -> SobolStream<'_> {
         let pixel_seed = mix(mix(self.seed ^ 0x536F_626F_6C00_0000) ^ pixel);
         let index = (sample < SOBOL_SAMPLES).then_some(sample as u32);
         let fallback = Fallback { streams: PerSample { seed: self.seed }, pixel, sample, rng: None };
-        let mut stream =
-            SobolStream { index, pixel_seed, set: [0.0; 4], loaded: u32::MAX, next: 0, end: 0, fallback };
+        let mut stream = SobolStream {
+            table: &self.table,
+            index,
+            pixel_seed,
+            set: [0.0; 4],
+            loaded: u32::MAX,
+            next: 0,
+            end: 0,
+            fallback,
+        };
         stream.use_dimensions(0, 0..4);
         stream
     }
 }
 
+/// `sobol_burley::sample_4d(index, 0, seed)`, the same bits, with the Sobol matrix product by
+/// table. The crate multiplies the (shuffled, bit-reversed) index by the generator matrices
+/// one set bit at a time, a loop of up to 16 rounds whose exit the CPU mispredicts; the product
+/// is linear over XOR, so it is the XOR of the products of the index's two bytes, 256 of each
+/// kept here (8 KiB, made once per render from the crate's own `parts::sobol_int4_rev`).
+/// The scrambles around it are the crate's `parts`, composed as `sample_4d` composes them
+/// (`tests/sampler.rs` checks its outputs against the crate's).
+#[derive(Debug)]
+struct SobolTable {
+    /// `bytes[k][b]`: the four dimensions' product for byte `b` at bits `24 − 8k ..` of the
+    /// bit-reversed index (only its top 16 bits count: the sequence has 2¹⁶ points).
+    bytes: [[[u32; 4]; 256]; 2],
+}
+
+impl SobolTable {
+    fn new() -> SobolTable {
+        let mut bytes = [[[0; 4]; 256]; 2];
+        for (k, products) in bytes.iter_mut().enumerate() {
+            for (b, product) in products.iter_mut().enumerate() {
+                *product = parts::sobol_int4_rev((b as u32) << (24 - 8 * k), 0).into();
+            }
+        }
+        SobolTable { bytes }
+    }
+
+    #[inline]
+    fn sample_4d(&self, index: u32, seed: u32) -> [f32; 4] {
+        let shuffled = parts::owen_scramble_rev(index.reverse_bits(), parts::hash(seed ^ 0x79c6_8e4a));
+        let [high, low] = [(shuffled >> 24) as usize, (shuffled >> 16 & 0xff) as usize];
+        let sobol = Int4::from(self.bytes[0][high]) ^ Int4::from(self.bytes[1][low]);
+        let scramble = Int4::from([seed.wrapping_mul(0x9c8f_2d3b); 4])
+            ^ Int4::from([0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8]);
+        parts::owen_scramble_int4_rev(sobol, parts::hash_int4(scramble)).reverse_bits().to_f32_norm()
+    }
+}
+
 /// One pixel sample's numbers from [`SobolStreams`].
 #[derive(Clone, Debug)]
-pub struct SobolStream {
+pub struct SobolStream<'a> {
+    table: &'a SobolTable,
     /// The sample's index in the sequence; `None` past [`SOBOL_SAMPLES`].
     index: Option<u32>,
     pixel_seed: u64,
@@ -163,28 +232,28 @@ impl Fallback {
     }
 }
 
-impl SobolStream {
+impl SobolStream<'_> {
     /// The next numbers are `dimensions` of 4-dimensional set `set`, computed if it is not
     /// the one loaded. Past the sequence's samples, they are independent numbers.
     fn use_dimensions(&mut self, set: u32, dimensions: std::ops::Range<usize>) {
         let Some(index) = self.index else { return };
         if self.loaded != set {
             let seed = mix(self.pixel_seed ^ u64::from(set)) as u32;
-            self.set = sobol_burley::sample_4d(index, 0, seed);
+            self.set = self.table.sample_4d(index, seed);
             self.loaded = set;
         }
         (self.next, self.end) = (dimensions.start, dimensions.end);
     }
 }
 
-impl SampleRng for SobolStream {
+impl SampleRng for SobolStream<'_> {
     fn bounce(&mut self, bounce: u32) {
         let first = 2 * (bounce % 2) as usize;
         self.use_dimensions(1 + bounce / 2, first..first + 2);
     }
 }
 
-impl rand::TryRng for SobolStream {
+impl rand::TryRng for SobolStream<'_> {
     type Error = std::convert::Infallible;
 
     /// The current use's next Sobol number (its 24 bits on top, as `f32` keeps them), or an
