@@ -114,12 +114,12 @@ pub struct ImageArgs {
     /// Samples per pixel.
     #[arg(long, default_value_t = 32, value_parser = clap::value_parser!(u32).range(1..), conflicts_with = "target_error")]
     pub spp: u32,
-    /// Adaptive sampling in whole-image passes: a pixel stops once, averaged over its 3 x 3
-    /// window, the means of its even and of its odd samples differ by less than E times the
-    /// square root of its brightness (e.g. 0.02); its neighbours go on while it does not.
+    /// Adaptive sampling: after --min-spp samples everywhere, a pixel takes samples in
+    /// proportion to its neighbours' noise: k x --min-spp where the means of their even and of
+    /// their odd samples differ by k x E x the square root of their brightness (e.g. 0.05).
     #[arg(long, value_name = "E", value_parser = positive_fraction, allow_negative_numbers = true)]
     pub target_error: Option<f64>,
-    /// With --target-error: samples every pixel takes first (then passes double them).
+    /// With --target-error: samples every pixel takes first (the pilot).
     #[arg(long, default_value_t = 16, requires = "target_error", value_parser = clap::value_parser!(u32).range(1..=65536))]
     pub min_spp: u32,
     /// With --target-error: the most samples a pixel takes.

@@ -34,8 +34,9 @@ pub struct Pass {
     pub samples: Range<u32>,
     /// The render's running sums.
     pub sums: Sums,
-    /// Which pixels it samples (row-major over the image, `true`: sample); all when `None`.
-    pub active: Option<Arc<Vec<bool>>>,
+    /// Each pixel's sample count (row-major over the image): a pixel takes only the samples
+    /// of `samples` below its count (none once it has them all); all of them when `None`.
+    pub counts: Option<Arc<Vec<u32>>>,
 }
 
 impl Pass {
@@ -45,9 +46,12 @@ impl Pass {
         let mut sums = self.sums.lock().remove(&tile).unwrap_or_else(|| PixelSums::new(tile.area()));
         let before = sums.samples();
         let width = job.settings.width as usize;
-        let samples = |i: u32, j: u32| match &self.active {
-            Some(active) if !active[j as usize * width + i as usize] => 0..0,
-            _ => self.samples.clone(),
+        let samples = |i: u32, j: u32| match &self.counts {
+            Some(counts) => {
+                let end = self.samples.end.min(counts[j as usize * width + i as usize]);
+                self.samples.start..end.max(self.samples.start)
+            }
+            None => self.samples.clone(),
         };
         let rays = accumulate_tile(job, streams, tile, samples, &mut sums);
         let out =

@@ -86,12 +86,13 @@ impl Default for RenderSettings {
 /// where most of its light comes from, so they are never cut).
 pub const ROULETTE_AFTER: u32 = 4;
 
-/// Adaptive sampling, in whole-image passes (see [`crate::schedule::adaptive`]): every pixel
-/// takes `min_spp` samples, then passes double the samples of the pixels not yet converged
-/// until the settings' `spp`. A pixel is converged when, averaged over its 3 × 3 window, its
-/// two half-estimates (even and odd samples) differ by less than `target_error` relative to
-/// the square root of its brightness; it keeps sampling while any pixel of its window has not
-/// converged.
+/// Adaptive sampling, in two whole-image passes (see [`crate::schedule::adaptive`]): every
+/// pixel takes `min_spp` samples (the pilot), then the samples it was given from its
+/// neighbours' pilot, up to the settings' `spp`. A pixel whose 3 × 3 neighbours' two
+/// half-estimates (even and odd samples) differ on average by `k × target_error × √brightness`
+/// takes `k × min_spp` samples (at least `min_spp`): samples in proportion to the noise, so
+/// halving `target_error` doubles the samples of every pixel above `min_spp`. Its own samples
+/// never decide its count, which keeps the image's mean unbiased.
 ///
 /// ```
 /// use raypool::tracer::render::Adaptive;
@@ -100,9 +101,10 @@ pub const ROULETTE_AFTER: u32 = 4;
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Adaptive {
-    /// Target difference of the two half-estimates, relative to √brightness (e.g. 0.02).
+    /// The neighbours' half-estimate difference, relative to √brightness, at which a pixel
+    /// takes only `min_spp` samples (e.g. 0.05).
     pub target_error: Real,
-    /// Samples every pixel takes first (rounded up to an even number).
+    /// Samples every pixel takes first, the pilot (rounded up to an even number).
     pub min_spp: u32,
 }
 

@@ -220,7 +220,7 @@ impl Session {
                 config.tile,
                 Arc::new(|_| {}),
             )
-            .with_pass(Pass { samples: done..done + more, sums: Arc::clone(&sums), active: None })
+            .with_pass(Pass { samples: done..done + more, sums: Arc::clone(&sums), counts: None })
             .with_cancel(cancel.clone())
             .with_tile_hook(hook);
             let pass_start = Instant::now();
