@@ -35,7 +35,7 @@ const METHODS: [(&str, Sampler, bool); 4] = [
 ];
 
 const SCENES: [&str; 5] = ["final", "paper1", "paper2", "paper3", "three-spheres"];
-const TARGETS: [Real; 5] = [0.4, 0.2, 0.1, 0.05, 0.025];
+const TARGETS: [Real; 8] = [0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.0015625];
 
 /// The adaptive methods: (name, sampler).
 const ADAPTIVE: [(&str, Sampler); 2] =
@@ -280,7 +280,7 @@ fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads
                 let t = uniform_time_for(&uniform, r.rmse);
                 let _ = writeln!(
                     md,
-                    "| {scene} | {} | {precision} | {:.3} | {:.1} | {:.3} | {:.3e} | {t:.3} | {:.2}× |",
+                    "| {scene} | {} | {precision} | {:.4} | {:.1} | {:.3} | {:.3e} | {t:.3} | {:.2}× |",
                     r.method,
                     r.setting,
                     r.mean_spp,
@@ -299,7 +299,7 @@ fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads
 fn headline(rows: &[Row], max_spp: u32) -> String {
     let mut md = format!(
         "## Time to the error of independent uniform sampling at {max_spp} spp\n\nFor each method (adaptive ones along \
-         their target errors E = 0.4 … 0.025), the time at which its error-against-time curve crosses the error that independent uniform sampling reaches at {max_spp} spp, \
+         their target errors E = 0.2 … 0.0016), the time at which its error-against-time curve crosses the error that independent uniform sampling reaches at {max_spp} spp, \
          interpolated log–log between the two runs around the crossing; the ratio is that time ÷ independent \
          uniform sampling's own time at {max_spp} spp (below 1: faster to the same error). \"+rr\": Russian \
          roulette. Single runs on a shared machine: times carry ±10%.\n\n\
