@@ -454,12 +454,6 @@ fn check_shard(args: &RenderArgs, format: Format) -> Result<Shard, Error> {
             "--rng shared draws numbers in whatever order threads run, so parts would not merge into one image: use --rng per-sample",
         ));
     }
-    if args.shard.is_some() && args.image.target_error.is_some() {
-        // Measured: merged adaptive parts differed from the one-process image.
-        return Err(Error::new(
-            "--target-error judges a pixel with its neighbours' samples, which other shards render, so parts would not merge into the one-process image: use --spp with --shard",
-        ));
-    }
     match args.shard {
         Some(shard) if format != Format::Part => Err(Error::new(format!(
             "--shard {shard} writes a part file: name it NAME.rpart (not '{}')",

@@ -29,7 +29,20 @@ fn ok(out: Output) -> Output {
 /// Renders `scene` whole into `whole.pfm` and as `n` parts with the modes taken in turn,
 /// merges the parts, and returns (whole bytes, merged bytes).
 fn whole_and_merged(dir: &Path, scene: &str, n: u32, tile: &str, modes: &[&str]) -> (Vec<u8>, Vec<u8>) {
-    let common = ["--scene", scene, "--width", "61", "--spp", "3", "--depth", "10", "--tile", tile];
+    whole_and_merged_with(dir, scene, n, tile, modes, &["--spp", "3"])
+}
+
+/// [`whole_and_merged`] with `sampling` flags instead of `--spp 3`.
+fn whole_and_merged_with(
+    dir: &Path,
+    scene: &str,
+    n: u32,
+    tile: &str,
+    modes: &[&str],
+    sampling: &[&str],
+) -> (Vec<u8>, Vec<u8>) {
+    let mut common = vec!["--scene", scene, "--width", "61", "--depth", "10", "--tile", tile];
+    common.extend_from_slice(sampling);
     let mut args = vec!["render", "--out", "whole.pfm"];
     args.extend_from_slice(&common);
     ok(raypool(&args, dir));
@@ -61,6 +74,20 @@ fn merged_parts_equal_the_one_process_render_for_1_3_and_7_shards() {
         let dir = scratch(&format!("merge-{n}-{tile}"));
         let (whole, merged) = whole_and_merged(&dir, scene, n, tile, &modes);
         assert!(whole == merged, "{n} shards of {tile}-pixel tiles ({scene}): merged image differs");
+    }
+}
+
+#[test]
+fn adaptive_parts_merge_into_the_one_process_image() {
+    // A pixel's sample count reads its neighbours' pilots; a shard renders the pilots of the
+    // pixels next to its tiles too, so each part holds the one-process pixels. Small tiles,
+    // so most pixels have a neighbour in another shard.
+    let modes = ["steal", "static", "serial"];
+    let adaptive = ["--target-error", "0.05", "--min-spp", "4", "--max-spp", "32"];
+    for (n, tile, scene) in [(3, "8", "final"), (5, "5", "paper3")] {
+        let dir = scratch(&format!("adaptive-{n}"));
+        let (whole, merged) = whole_and_merged_with(&dir, scene, n, tile, &modes, &adaptive);
+        assert!(whole == merged, "{n} adaptive shards of {tile}-pixel tiles ({scene}): merged image differs");
     }
 }
 
@@ -177,10 +204,6 @@ fn bad_parts_are_refused_by_name() {
         (vec!["render", "--shard", "one/3", "--out", "x.rpart"], "'one' is not a whole number"),
         (vec!["render", "--shard", "1/3", "--out", "x.png"], "writes a part file"),
         (vec!["render", "--shard", "1/3", "--rng", "shared", "--out", "x.rpart"], "use --rng per-sample"),
-        (
-            vec!["render", "--shard", "1/3", "--target-error", "0.1", "--out", "x.rpart"],
-            "use --spp with --shard",
-        ),
     ] {
         let out = raypool(&args, &dir);
         let stderr = String::from_utf8_lossy(&out.stderr);

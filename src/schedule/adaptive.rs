@@ -16,6 +16,10 @@
 //! reason there is one decision, from the pilot alone: a second round of decisions would look at
 //! neighbours' samples whose number was decided by this pixel's pilot.
 //!
+//! A shard (`render --shard`) also renders, on the calling thread, the pilots of the pixels next
+//! to its tiles that other shards render: then its counts are the one-process counts, and
+//! merged parts equal the one-process image (`tests/shard.rs`).
+//!
 //! Each pass is one batch of tiles on the chosen scheduler (a [`Pass`];
 //! [`crate::schedule::modes::render`] hands this loop its scheduler as `run_pass`). A pixel's
 //! count depends only on pilot samples, whose numbers depend only on (seed, pixel, sample), so
@@ -29,6 +33,7 @@ use crate::files::image::Image;
 use crate::schedule::frame::Frame;
 use crate::schedule::progressive::{Pass, Sums};
 use crate::tracer::render::{Adaptive, TileOutput};
+use crate::tracer::tile::Tile;
 
 /// Renders `frame` adaptively by `adaptive`, each pass by `run_pass` (a scheduler's render);
 /// returns the image (the last pass's tiles carry every pixel's mean) and every pass's tiles
@@ -43,20 +48,58 @@ pub fn render_adaptive(
     let (width, height) = (settings.width as usize, settings.height as usize);
     let sums = Sums::default();
     let pilot = adaptive.min_spp.max(2).next_multiple_of(2).min(settings.spp);
-    let mut pass = |samples, counts| {
+    let pass = |samples, counts| {
         let pass = Pass { samples, sums: Arc::clone(&sums), counts };
-        run_pass(&Arc::new(frame.as_ref().clone().with_pass(pass)))
+        Arc::new(frame.as_ref().clone().with_pass(pass))
     };
-    let mut tiles = pass(0..pilot, None);
+    let pilot_pass = pass(0..pilot, None);
+    let mut tiles = run_pass(&pilot_pass);
     let mut image = frame.assemble(&tiles)?;
+    // The pilots of the pixels next to a shard's tiles that other shards render (not part of
+    // its image), on this thread: with them every pixel's count is the one-process count, so
+    // merged parts equal the one-process image. A whole image has none.
+    tiles.extend(ring(frame).into_iter().map(|strip| pilot_pass.render(strip)));
     let noise = halves(&sums, width, height);
     let counts = sample_counts(&noise, width, height, pilot, settings.spp, f64::from(adaptive.target_error));
     if counts.iter().any(|&n| n > pilot) {
-        let rest = pass(pilot..settings.spp, Some(Arc::new(counts)));
+        let rest = run_pass(&pass(pilot..settings.spp, Some(Arc::new(counts))));
         image = frame.assemble(&rest)?;
         tiles.extend(rest);
     }
     Ok((image, tiles))
+}
+
+/// The pixels outside `frame`'s tiles (another shard's) that touch one of them, as strips one
+/// pixel high, left to right, top to bottom.
+fn ring(frame: &Frame) -> Vec<Tile> {
+    let (width, height) = (frame.width() as usize, frame.height() as usize);
+    let mut inside = vec![false; width * height];
+    for tile in frame.tiles() {
+        for y in tile.y..tile.y + tile.height {
+            let row = y as usize * width;
+            inside[row + tile.x as usize..row + (tile.x + tile.width) as usize].fill(true);
+        }
+    }
+    let touches = |x: usize, y: usize| {
+        (y.saturating_sub(1)..(y + 2).min(height))
+            .any(|j| (x.saturating_sub(1)..(x + 2).min(width)).any(|i| inside[j * width + i]))
+    };
+    let mut strips = Vec::new();
+    for y in 0..height {
+        let mut x = 0;
+        while x < width {
+            let start = x;
+            while x < width && !inside[y * width + x] && touches(x, y) {
+                x += 1;
+            }
+            if x > start {
+                strips.push(Tile { x: start as u32, y: y as u32, width: (x - start) as u32, height: 1 });
+            } else {
+                x += 1;
+            }
+        }
+    }
+    strips
 }
 
 /// Each pixel's `(|A − B|₁, |A + B|₁ / 2)`: the difference of its half-estimates `A` (even
