@@ -80,10 +80,7 @@ fn ring(frame: &Frame) -> Vec<Tile> {
             inside[row + tile.x as usize..row + (tile.x + tile.width) as usize].fill(true);
         }
     }
-    let touches = |x: usize, y: usize| {
-        (y.saturating_sub(1)..(y + 2).min(height))
-            .any(|j| (x.saturating_sub(1)..(x + 2).min(width)).any(|i| inside[j * width + i]))
-    };
+    let touches = |x: usize, y: usize| window(x, y, width, height).any(|c| inside[c]);
     let mut strips = Vec::new();
     for y in 0..height {
         let mut x = 0;
@@ -100,6 +97,13 @@ fn ring(frame: &Frame) -> Vec<Tile> {
         }
     }
     strips
+}
+
+/// The row-major indices of the pixels of the 3 × 3 window around `(x, y)`, itself included,
+/// clipped to the `width` × `height` image.
+fn window(x: usize, y: usize, width: usize, height: usize) -> impl Iterator<Item = usize> {
+    (y.saturating_sub(1)..(y + 2).min(height))
+        .flat_map(move |j| (x.saturating_sub(1)..(x + 2).min(width)).map(move |i| j * width + i))
 }
 
 /// Each pixel's `(|A − B|₁, |A + B|₁ / 2)`: the difference of its half-estimates `A` (even
@@ -147,12 +151,8 @@ fn sample_counts(
 ) -> Vec<u32> {
     (0..width * height)
         .map(|k| {
-            let (x, y) = (k % width, k / width);
-            let neighbours = (y.saturating_sub(1)..(y + 2).min(height))
-                .flat_map(|j| (x.saturating_sub(1)..(x + 2).min(width)).map(move |i| j * width + i))
-                .filter(|&c| c != k);
             let (mut difference, mut brightness, mut n) = (0.0, 0.0, 0.0);
-            for c in neighbours {
+            for c in window(k % width, k / width, width, height).filter(|&c| c != k) {
                 (difference, brightness, n) = (difference + noise[c].0, brightness + noise[c].1, n + 1.0);
             }
             if n == 0.0 {
