@@ -119,11 +119,18 @@ impl Sphere {
         if discriminant < 0.0 {
             return None;
         }
+        let c = f.length_squared() - r2;
+        if c > 0.0 && b > 0.0 {
+            // Outside and moving away (the roots' product c is positive, their sum −2b
+            // negative): both roots are negative, and below they would come out negative too
+            // (q < 0, c/q < 0). Decided before the square root and the division, the slowest
+            // part of the test: every bounce ray meets the sphere it leaves here.
+            return None;
+        }
         let q = -b - discriminant.sqrt().copysign(b);
         if q == 0.0 {
             return None; // a tangent ray starting on the tangent point: no hit ahead
         }
-        let c = f.length_squared() - r2;
         let (near, far) = {
             let (t0, t1) = (c / q, q);
             if t0 <= t1 { (t0, t1) } else { (t1, t0) }
