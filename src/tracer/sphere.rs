@@ -174,8 +174,10 @@ impl Sphere {
     /// The full hit record for an intersection at distance `t` found by [`Sphere::intersect`].
     #[inline]
     pub fn hit_at(&self, ray: &Ray, t: Real) -> Hit {
-        // Dividing by the signed radius turns a hollow shell's normals inwards.
-        let outward = ((ray.at(t) - self.center) / self.radius).normalize();
+        // The signed radius's sign turns a hollow shell's normals inwards. One square root
+        // and one division: `(p − c) / r` normalised again cost a second vector division.
+        let offset = ray.at(t) - self.center;
+        let outward = offset * ((1.0 as Real).copysign(self.radius) / offset.length());
         // Re-project onto the surface: `ray.at(t)` carries the rounding error of the ray's
         // origin and length (large for a far camera), this only that of the sphere itself,
         // which is what `spawn_offset` is sized for.
