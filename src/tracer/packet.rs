@@ -6,8 +6,10 @@
 //! vectorises for baseline x86-64 SSE (`Scene::hit` in the release binary holds `sqrtps` and
 //! `divps`: `objdump -d target/release/raypool`), with no `unsafe` and no CPU-specific build;
 //! elsewhere the same loops compile to that CPU's vector or scalar code. Every lane performs exactly
-//! the operations of [`Sphere::intersect`], in the same order, so a packet finds bit for bit
-//! the distances that testing the spheres one by one finds (`tests/bvh.rs`).
+//! the arithmetic of [`Sphere::intersect`], in the same order, so a packet finds bit for bit
+//! the distances that testing the spheres one by one finds (`tests/bvh.rs`); the scalar test's
+//! early exits (a negative discriminant, a sphere behind the ray) only skip work whose answer
+//! is "no hit", which a lane computes and finds too.
 //!
 //! Invariant: unused lanes hold NaN centres and radii and index [`Packet::EMPTY`]; every
 //! comparison with NaN is false, so they never report a hit.

@@ -176,8 +176,8 @@ impl Sphere {
     pub fn hit_at(&self, ray: &Ray, t: Real) -> Hit {
         // The signed radius's sign turns a hollow shell's normals inwards. One square root
         // and one division: `(p − c) / r` normalised again cost a second vector division.
-        let offset = ray.at(t) - self.center;
-        let outward = offset * ((1.0 as Real).copysign(self.radius) / offset.length());
+        let from_center = ray.at(t) - self.center;
+        let outward = from_center * ((1.0 as Real).copysign(self.radius) / from_center.length());
         // Re-project onto the surface: `ray.at(t)` carries the rounding error of the ray's
         // origin and length (large for a far camera), this only that of the sphere itself,
         // which is what `spawn_offset` is sized for.
