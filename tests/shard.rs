@@ -7,7 +7,7 @@ use std::process::{Command, Output};
 
 use raypool::files::image::Image;
 use raypool::files::part::{Part, PartSettings, merge};
-use raypool::tracer::real::Vec3;
+use raypool::tracer::real::{Real, Vec3};
 use raypool::{RenderSettings, Shard, Tile};
 
 fn raypool(args: &[&str], dir: &Path) -> Output {
@@ -219,7 +219,7 @@ fn a_part_round_trips_through_its_bytes() {
     let image = Image {
         width,
         height,
-        pixels: (0..width * height).map(|k| Vec3::new(k as f32 / 7.0, 1e-30, 3.0e7)).collect(),
+        pixels: (0..width * height).map(|k| Vec3::new(k as Real / 7.0, 1e-30, 3.0e7)).collect(),
     };
     let settings = RenderSettings { width, height, ..RenderSettings::default() };
     let grid = Tile::grid(width, height, tile);
