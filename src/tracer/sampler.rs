@@ -271,8 +271,13 @@ impl rand::TryRng for SobolStream<'_> {
         }
     }
 
-    /// A Sobol number's 32 bits on top, independent bits below (for the `f64` build).
+    /// A Sobol number's 32 bits on top, independent bits below (for the `f64` build); past
+    /// the use's dimensions, the independent stream's own next `u64`, so the fallback draws
+    /// exactly the numbers of [`PerSample`]'s stream in both builds.
     fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
+        if self.next >= self.end {
+            return Ok(self.fallback.rng().next_u64());
+        }
         let high = self.try_next_u32()?;
         Ok(u64::from(high) << 32 | u64::from(self.fallback.rng().next_u32()))
     }

@@ -66,13 +66,13 @@ impl WideBvh {
     /// array on), into a four-wide hierarchy.
     ///
     /// ```
-    /// use raypool::tracer::{bvh::Bvh, wide::WideBvh, ray::Ray, real::Vec3, sphere::{Closest, Sphere}};
+    /// use raypool::tracer::{bvh::Bvh, wide::WideBvh, ray::Ray, real::{Real, Vec3}, sphere::{Closest, Sphere}};
     /// let mut balls: Vec<Sphere> = (0..50)
-    ///     .map(|k| Sphere { center: Vec3::new(k as f32 * 3.0, 0.0, -10.0), radius: 1.0, material: 0 })
+    ///     .map(|k| Sphere { center: Vec3::new(k as Real * 3.0, 0.0, -10.0), radius: 1.0, material: 0 })
     ///     .collect();
     /// let wide = WideBvh::collapse(&Bvh::build(&mut balls), &balls, 0);
     /// let along_x = Ray::new(Vec3::new(-5.0, 0.0, -10.0), Vec3::X);
-    /// let mut closest = Closest::none(f32::INFINITY);
+    /// let mut closest = Closest::none(Real::INFINITY);
     /// wide.intersect(&along_x, &mut closest);
     /// let (index, t) = closest.found().unwrap();
     /// assert_eq!((balls[index].center.x, t), (0.0, 4.0), "the first ball, 4 units away");
