@@ -272,8 +272,10 @@ impl rand::TryRng for SobolStream<'_> {
     }
 
     /// A Sobol number's 32 bits on top, independent bits below (for the `f64` build); past
-    /// the use's dimensions, the independent stream's own next `u64`, so the fallback draws
-    /// exactly the numbers of [`PerSample`]'s stream in both builds.
+    /// the use's dimensions, the independent stream's own next `u64`, so a sample past the
+    /// sequence's 2¹⁶ draws exactly [`PerSample`]'s numbers in both builds. (Within the
+    /// sequence the low bits of f64 Sobol draws come from that stream too, so a later
+    /// fallback draw is a later number of it.)
     fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
         if self.next >= self.end {
             return Ok(self.fallback.rng().next_u64());
