@@ -19,8 +19,6 @@ const THREAD_JOBS: usize = 2_000;
 const UNEVEN_JOBS: usize = 10_000;
 const UNEVEN_RUNS: usize = 7;
 
-const DISCIPLINES: [(Discipline, &str); 3] =
-    [(Discipline::Shared, "Shared"), (Discipline::Locked, "Locked"), (Discipline::Stealing, "Stealing")];
 
 fn main() {
     let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
@@ -44,9 +42,9 @@ fn main() {
 /// Criterion group `overhead`: 100,000 empty jobs through each pool, and the baselines.
 fn overhead(c: &mut Criterion, workers: usize) {
     let mut group = c.benchmark_group("overhead");
-    for (discipline, name) in DISCIPLINES {
+    for discipline in Discipline::ALL {
         let pool = ThreadPool::new(workers, discipline).expect("pool starts");
-        group.bench_function(name, |b| b.iter(|| pool.batch((0..JOBS).map(|_| || ()))));
+        group.bench_function(format!("{discipline:?}"), |b| b.iter(|| pool.batch((0..JOBS).map(|_| || ()))));
     }
     let rayon = rayon::ThreadPoolBuilder::new().num_threads(workers).build().expect("rayon starts");
     group.bench_function("rayon", |b| {
@@ -76,7 +74,7 @@ fn criterion_median(name: &str) -> Option<f64> {
 
 /// One row of the imbalanced-batch table.
 struct Uneven {
-    name: &'static str,
+    name: String,
     /// Median wall time over the ideal `total work ÷ workers`.
     wall_over_ideal: f64,
     median_wall: Duration,
@@ -119,7 +117,8 @@ fn uneven_batch(workers: usize, costs: &[Duration]) -> Vec<Uneven> {
         }
     };
     let mut rows = Vec::new();
-    for (discipline, name) in DISCIPLINES {
+    for discipline in Discipline::ALL {
+        let name = format!("{discipline:?}");
         let pool =
             ThreadPool::builder().workers(workers).discipline(discipline).instrument(true).build().unwrap();
         let mut imbalances = Vec::new();
@@ -148,7 +147,7 @@ fn uneven_batch(workers: usize, costs: &[Duration]) -> Vec<Uneven> {
             start.elapsed()
         })
         .collect();
-    rows.push(row("static split", static_walls, None));
+    rows.push(row("static split".into(), static_walls, None));
     let rayon = rayon::ThreadPoolBuilder::new().num_threads(workers).build().unwrap();
     let rayon_walls = (0..UNEVEN_RUNS)
         .map(|_| {
@@ -158,7 +157,7 @@ fn uneven_batch(workers: usize, costs: &[Duration]) -> Vec<Uneven> {
             start.elapsed()
         })
         .collect();
-    rows.push(row("rayon par_iter", rayon_walls, None));
+    rows.push(row("rayon par_iter".into(), rayon_walls, None));
     rows
 }
 
@@ -175,7 +174,8 @@ fn report(workers: usize, uneven: &[(&str, Vec<Uneven>)]) -> String {
     );
     let _ = writeln!(md, "| queue | time for {JOBS} jobs | per job | × rayon |\n|---|---:|---:|---:|");
     let rayon = criterion_median("rayon");
-    for name in ["Shared", "Locked", "Stealing", "rayon"] {
+    let names = Discipline::ALL.map(|d| format!("{d:?}"));
+    for name in names.iter().map(String::as_str).chain(["rayon"]) {
         match criterion_median(name) {
             Some(ns) => {
                 let ratio = rayon.map_or("n/a".into(), |r| format!("{:.2}", ns / r));

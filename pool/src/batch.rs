@@ -28,11 +28,10 @@ use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
 use std::sync::Arc;
 use std::thread;
 
-use parking_lot::Mutex;
-
 use crate::latch::CountLatch;
 use crate::pool::ThreadPool;
 use crate::queue::Job;
+use crate::sync::Mutex;
 use crate::worker::Registry;
 
 /// Where a batch's jobs leave their results, one slot each.

@@ -9,9 +9,9 @@
 //! waiter's `is_done` an acquire load, so whatever a job wrote before counting down (its
 //! result) is visible to the waiter once it sees zero.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::Ordering;
 
-use parking_lot::{Condvar, Mutex};
+use crate::sync::{AtomicUsize, Condvar, Mutex};
 
 pub(crate) struct CountLatch {
     remaining: AtomicUsize,
@@ -49,5 +49,51 @@ impl CountLatch {
         while !*done {
             self.released.wait(&mut done);
         }
+    }
+}
+
+/// Loom models of the latch (`.ci/run` runs them; see `sync.rs`).
+#[cfg(all(test, loom))]
+mod model {
+    use std::sync::Arc;
+    use std::sync::atomic::Ordering::Relaxed;
+
+    use super::CountLatch;
+    use crate::sync::{AtomicUsize, thread};
+
+    /// Two jobs each write a result (a relaxed store, like any plain write) and count down.
+    fn two_jobs() -> (Arc<CountLatch>, Arc<[AtomicUsize; 2]>) {
+        let latch = Arc::new(CountLatch::new(2));
+        let results = Arc::new([AtomicUsize::new(0), AtomicUsize::new(0)]);
+        for i in 0..2 {
+            let (latch, results) = (Arc::clone(&latch), Arc::clone(&results));
+            thread::spawn(move || {
+                results[i].store(i + 1, Relaxed);
+                latch.count_down();
+            });
+        }
+        (latch, results)
+    }
+
+    /// A sleeping waiter wakes once both have counted down, and sees both results.
+    #[test]
+    fn model_a_waiter_sees_every_result() {
+        loom::model(|| {
+            let (latch, results) = two_jobs();
+            latch.wait();
+            assert_eq!([results[0].load(Relaxed), results[1].load(Relaxed)], [1, 2]);
+        });
+    }
+
+    /// A helping waiter polls `is_done` instead of sleeping; the same holds.
+    #[test]
+    fn model_a_polling_waiter_sees_every_result() {
+        loom::model(|| {
+            let (latch, results) = two_jobs();
+            while !latch.is_done() {
+                thread::yield_now();
+            }
+            assert_eq!([results[0].load(Relaxed), results[1].load(Relaxed)], [1, 2]);
+        });
     }
 }

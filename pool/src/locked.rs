@@ -8,9 +8,8 @@
 
 use std::collections::VecDeque;
 
-use parking_lot::{Condvar, Mutex};
-
 use crate::queue::{Job, JobQueue, Popped};
+use crate::sync::{Condvar, Mutex};
 
 pub(crate) struct LockedQueue {
     state: Mutex<State>,
@@ -64,5 +63,19 @@ impl JobQueue for LockedQueue {
     fn close(&self) {
         self.state.lock().closed = true;
         self.available.notify_all();
+    }
+}
+
+/// Loom model of the locked queue (`.ci/run` runs it; see `sync.rs`).
+#[cfg(all(test, loom))]
+mod model {
+    use std::sync::Arc;
+
+    use super::LockedQueue;
+    use crate::queue::model::two_workers_drain_then_exit;
+
+    #[test]
+    fn model_workers_run_every_job_and_exit_on_close() {
+        loom::model(|| two_workers_drain_then_exit(Arc::new(LockedQueue::new())));
     }
 }

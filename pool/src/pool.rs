@@ -8,7 +8,6 @@
 
 use std::fmt;
 use std::sync::Arc;
-use std::thread::{self, JoinHandle};
 use std::time::Instant;
 
 use crate::locked::LockedQueue;
@@ -16,6 +15,7 @@ use crate::queue::{Discipline, Job, JobQueue};
 use crate::shared::SharedQueue;
 use crate::stats::{JobSpan, PoolStats, WorkerCounters};
 use crate::steal::StealQueue;
+use crate::sync::{JoinHandle, thread};
 use crate::worker::Registry;
 
 /// A fixed set of worker threads running jobs from a queue.
@@ -167,7 +167,7 @@ impl ThreadPool {
     /// assert!(pool.workers() >= 1);
     /// ```
     pub fn builder() -> Builder {
-        let workers = thread::available_parallelism().map_or(1, |n| n.get());
+        let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
         Builder { workers, discipline: Discipline::default(), instrument: false }
     }
 

@@ -42,7 +42,7 @@ pub(crate) struct Popped {
 ///
 /// ```
 /// use pool::{Discipline, ThreadPool};
-/// for discipline in [Discipline::Shared, Discipline::Locked, Discipline::Stealing] {
+/// for discipline in Discipline::ALL {
 ///     let pool = ThreadPool::new(2, discipline).unwrap();
 ///     assert_eq!(pool.batch((0..4).map(|i| move || i * i)), vec![0, 1, 4, 9]);
 /// }
@@ -60,6 +60,22 @@ pub enum Discipline {
     /// steals from the back of another's. Batches are dealt out in contiguous runs, so
     /// stealing is what balances an uneven load.
     Stealing,
+}
+
+impl Discipline {
+    /// Every discipline. The pool's tests (`pool/tests/`) and its benchmark (`cargo bench
+    /// --bench pool`) iterate over this list, so a discipline added here is tested and
+    /// measured with no other list to edit.
+    ///
+    /// ```
+    /// use pool::{Discipline, ThreadPool};
+    /// for discipline in Discipline::ALL {
+    ///     let pool = ThreadPool::new(2, discipline).unwrap();
+    ///     assert_eq!(pool.discipline(), discipline);
+    /// }
+    /// assert_eq!(Discipline::ALL.len(), 3);
+    /// ```
+    pub const ALL: [Discipline; 3] = [Discipline::Shared, Discipline::Locked, Discipline::Stealing];
 }
 
 /// The operations the pool needs from a queue discipline. `me` is the calling worker's
@@ -80,4 +96,60 @@ pub(crate) trait JobQueue: Send + Sync {
     /// No more jobs will be pushed by the pool's owner: wake every sleeping worker so that
     /// each can drain the queue and exit.
     fn close(&self);
+}
+
+/// What the loom models of every discipline share (`.ci/run` runs them; see `sync.rs`).
+#[cfg(all(test, loom))]
+pub(crate) mod model {
+    use std::sync::Arc;
+    use std::sync::atomic::Ordering::SeqCst;
+
+    use super::{Job, JobQueue};
+    use crate::sync::{AtomicUsize, thread};
+
+    /// Counts how often each of a few jobs ran.
+    pub(crate) struct Runs(Vec<AtomicUsize>);
+
+    impl Runs {
+        pub(crate) fn new(jobs: usize) -> Arc<Runs> {
+            Arc::new(Runs((0..jobs).map(|_| AtomicUsize::new(0)).collect()))
+        }
+
+        /// Job `i`, which counts its run.
+        pub(crate) fn job(self: &Arc<Runs>, i: usize) -> Job {
+            let runs = Arc::clone(self);
+            Job::detached(move || {
+                runs.0[i].fetch_add(1, SeqCst);
+            })
+        }
+
+        pub(crate) fn assert_each_ran_once(&self) {
+            let counts: Vec<usize> = self.0.iter().map(|r| r.load(SeqCst)).collect();
+            assert!(counts.iter().all(|&c| c == 1), "runs per job: {counts:?}, want 1 each");
+        }
+    }
+
+    /// Runs jobs from `queue` as `me` until `take` finds none.
+    pub(crate) fn run_until_none(take: impl Fn() -> Option<super::Popped>) {
+        while let Some(popped) = take() {
+            (popped.job.body)();
+        }
+    }
+
+    /// Two workers wait for jobs; the owner pushes two and closes the queue. Every job runs
+    /// exactly once, and both workers return (none sleeps through the close).
+    pub(crate) fn two_workers_drain_then_exit(queue: Arc<dyn JobQueue>) {
+        let runs = Runs::new(2);
+        let workers: Vec<_> = (0..2)
+            .map(|me| {
+                let queue = Arc::clone(&queue);
+                thread::spawn(move || run_until_none(|| queue.wait_pop(me)))
+            })
+            .collect();
+        queue.push(runs.job(0), None);
+        queue.push(runs.job(1), None);
+        queue.close();
+        workers.into_iter().for_each(|w| w.join().unwrap());
+        runs.assert_each_ran_once();
+    }
 }

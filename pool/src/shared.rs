@@ -11,9 +11,9 @@
 //! itself is never closed, because a job still running after `close` may submit more work.
 
 use crossbeam_channel::{Receiver, Sender, select, unbounded};
-use parking_lot::Mutex;
 
 use crate::queue::{Job, JobQueue, Popped};
+use crate::sync::Mutex;
 
 pub(crate) struct SharedQueue {
     jobs_in: Sender<Job>,

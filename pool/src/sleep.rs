@@ -5,25 +5,40 @@
 //! without this race: the worker finds nothing, a job is pushed and a wake-up sent to nobody,
 //! and only then does the worker fall asleep, with a job waiting.
 //!
-//! The protocol (all atomics `SeqCst`, so all threads agree on one order of these steps):
+//! The protocol (each side writes its own counter, then a `SeqCst` fence, then reads the
+//! other side's: Dekker's pattern):
 //!
 //! ```text
 //!   sleeper                                pusher
 //!   lock                                   work_count += 1     (publish the job)
-//!   sleepers += 1                          if sleepers > 0:
+//!   sleepers += 1                          fence(SeqCst)
+//!   fence(SeqCst)                          if sleepers > 0:
 //!   if work_count == 0 and not closed:         lock; notify; unlock
 //!       wait (unlocks while asleep)
 //!   sleepers -= 1; unlock
 //! ```
 //!
-//! Either the pusher reads `sleepers` after the sleeper incremented it (then it takes the
-//! lock, which it can only get once the sleeper is waiting, and its notify wakes it), or
-//! before (then its own `work_count += 1` came earlier still, and the sleeper's check sees
-//! the job and does not wait). Pushers pay for the lock only while someone sleeps.
+//! The two fences are ordered one way or the other. If the sleeper's comes first, the pusher
+//! reads `sleepers` ≥ 1 and takes the lock, which it can only get once the sleeper is waiting
+//! (or has not started to), and its notify wakes it. If the pusher's comes first, the
+//! sleeper's check sees the job and does not wait. Pushers pay for the lock only while
+//! someone sleeps.
+//!
+//! **Invariant:** a sleeper registers (`sleepers += 1`) *before* it looks for work. Swap those
+//! two lines and the first case above breaks: the pusher can read 0 sleepers in the instant
+//! between the sleeper's look and its registration, notify nobody, and the sleeper then
+//! sleeps beside a job. `model_a_pusher_wakes_one_sleeper` below finds that interleaving.
+//!
+//! **Why fences, not just `SeqCst` loads.** `SeqCst` on every load and store also rules the
+//! race out on real hardware (all `SeqCst` operations have one total order). But loom, the
+//! model checker, treats a `SeqCst` load as an acquire load (loom issue #180) and would report
+//! a lost wake-up that cannot happen; it does model `fence(SeqCst)` exactly. The fence states
+//! the protocol in the form both the hardware and the checker agree on. It costs one `mfence`
+//! per push on x86 (measured in `results/pool-mutants.md`: no change in per-job cost).
 
-use std::sync::atomic::{AtomicUsize, Ordering::SeqCst};
+use std::sync::atomic::Ordering::SeqCst;
 
-use parking_lot::{Condvar, Mutex};
+use crate::sync::{AtomicUsize, Condvar, Mutex, fence};
 
 pub(crate) struct Sleep {
     lock: Mutex<()>,
@@ -37,12 +52,13 @@ impl Sleep {
         Sleep { lock: Mutex::new(()), wake: Condvar::new(), sleepers: AtomicUsize::new(0) }
     }
 
-    /// Sleeps until woken, unless `has_work()` (which must read `SeqCst` atomics that the
-    /// waking side writes before calling [`Sleep::wake_one`] or [`Sleep::wake_all`]) is
-    /// already true. May return spuriously: callers loop.
+    /// Sleeps until woken, unless `has_work()` is already true. `has_work` must read the
+    /// atomics that the waking side writes *before* it calls [`Sleep::wake_one`] or
+    /// [`Sleep::wake_all`]. May return spuriously: callers loop.
     pub(crate) fn sleep_unless(&self, has_work: impl Fn() -> bool) {
         let mut guard = self.lock.lock();
         self.sleepers.fetch_add(1, SeqCst);
+        fence(SeqCst);
         if !has_work() {
             self.wake.wait(&mut guard);
         }
@@ -51,7 +67,7 @@ impl Sleep {
 
     /// Wakes one sleeper, if any (after one job was published).
     pub(crate) fn wake_one(&self) {
-        if self.sleepers.load(SeqCst) > 0 {
+        if self.anyone_asleep() {
             let _guard = self.lock.lock();
             self.wake.notify_one();
         }
@@ -59,9 +75,87 @@ impl Sleep {
 
     /// Wakes every sleeper (after many jobs were published, or on shutdown).
     pub(crate) fn wake_all(&self) {
-        if self.sleepers.load(SeqCst) > 0 {
+        if self.anyone_asleep() {
             let _guard = self.lock.lock();
             self.wake.notify_all();
         }
+    }
+
+    /// The pusher's half of the protocol: its job is published, now look for sleepers.
+    fn anyone_asleep(&self) -> bool {
+        fence(SeqCst);
+        self.sleepers.load(SeqCst) > 0
+    }
+}
+
+/// Loom models: every interleaving of a pusher against sleepers (`.ci/run` runs them; see
+/// `sync.rs`). A lost wake-up leaves a sleeper waiting forever, which loom reports as a
+/// deadlock, with the interleaving that led there.
+#[cfg(all(test, loom))]
+mod model {
+    use std::sync::Arc;
+    use std::sync::atomic::Ordering::SeqCst;
+
+    use super::Sleep;
+    use crate::sync::{AtomicUsize, thread};
+
+    /// A sleep protocol and a count of published jobs, as a queue would hold them.
+    #[derive(Default)]
+    struct Queue {
+        sleep: Sleep,
+        jobs: AtomicUsize,
+    }
+
+    impl Queue {
+        fn push(&self) {
+            self.jobs.fetch_add(1, SeqCst);
+            self.sleep.wake_one();
+        }
+
+        /// A worker's loop: take a job if there is one, else sleep until there may be.
+        fn take(&self) {
+            loop {
+                let taken = self.jobs.fetch_update(SeqCst, SeqCst, |n| n.checked_sub(1));
+                if taken.is_ok() {
+                    return;
+                }
+                self.sleep.sleep_unless(|| self.jobs.load(SeqCst) > 0);
+            }
+        }
+    }
+
+    impl Default for Sleep {
+        fn default() -> Sleep {
+            Sleep::new()
+        }
+    }
+
+    #[test]
+    fn model_a_pusher_wakes_one_sleeper() {
+        loom::model(|| {
+            let queue = Arc::new(Queue::default());
+            let worker = thread::spawn({
+                let queue = Arc::clone(&queue);
+                move || queue.take()
+            });
+            queue.push();
+            worker.join().unwrap();
+        });
+    }
+
+    #[test]
+    fn model_a_pusher_wakes_two_sleepers() {
+        loom::model(|| {
+            let queue = Arc::new(Queue::default());
+            let workers: Vec<_> = (0..2)
+                .map(|_| {
+                    let queue = Arc::clone(&queue);
+                    thread::spawn(move || queue.take())
+                })
+                .collect();
+            queue.push();
+            queue.push();
+            workers.into_iter().for_each(|w| w.join().unwrap());
+        });
     }
 }

@@ -8,10 +8,10 @@
 //! Each worker's counters sit on their own cache lines (`#[repr(align(128))]`): workers
 //! updating neighbouring counters would otherwise slow each other down (false sharing).
 
-use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+use std::sync::atomic::Ordering::Relaxed;
 use std::time::Duration;
 
-use parking_lot::Mutex;
+use crate::sync::{AtomicU64, Mutex};
 
 /// What one worker did since the pool was built (or since [`ThreadPool::reset_stats`]).
 ///

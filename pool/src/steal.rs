@@ -16,21 +16,25 @@
 //! The owner's lock is almost never contended (thieves come only when they ran dry), which is
 //! what makes per-worker deques scale where one shared queue does not.
 //!
-//! Invariants: `work_count` ≥ the number of jobs in all deques (it is raised *before* a job is
-//! pushed and lowered *after* one is popped), so a sleeper that sees 0 really has nothing to
-//! miss; a worker exits only when the queue is closed and `work_count` is 0.
+//! Invariants:
+//! - `work_count` is the number of jobs in all deques. It changes only under the lock of the
+//!   deque that changes, in the same critical section, so a job is never "in flight": once
+//!   counted it can be popped, and once popped it is no longer counted.
+//! - So a worker that reads `work_count > 0` and then finds every deque empty has lost a race
+//!   to another worker that took the job; retrying cannot spin for longer than others make
+//!   progress. A worker that reads 0 has nothing to miss, and may sleep (`sleep.rs`).
+//! - A worker exits only when the queue is closed and `work_count` is 0.
 
 use std::collections::VecDeque;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering::SeqCst};
-
-use parking_lot::Mutex;
+use std::sync::atomic::Ordering::SeqCst;
 
 use crate::queue::{Job, JobQueue, Popped};
 use crate::sleep::Sleep;
+use crate::sync::{AtomicBool, AtomicUsize, Mutex};
 
 pub(crate) struct StealQueue {
     deques: Vec<Mutex<VecDeque<Job>>>,
-    /// Upper bound of the jobs queued in all deques (see the invariants above).
+    /// The number of jobs in all deques (see the invariants above).
     work_count: AtomicUsize,
     closed: AtomicBool,
     /// Where the next job from a non-worker thread goes (round robin).
@@ -49,8 +53,20 @@ impl StealQueue {
         }
     }
 
-    fn pop_own(&self, me: usize) -> Option<Job> {
-        self.deques[me].lock().pop_front()
+    /// Appends `jobs` to deque `target` and counts them, under that deque's lock.
+    fn land(&self, target: usize, jobs: impl IntoIterator<Item = Job>) {
+        let mut deque = self.deques[target].lock();
+        let before = deque.len();
+        deque.extend(jobs);
+        self.work_count.fetch_add(deque.len() - before, SeqCst);
+    }
+
+    /// Takes a job from deque `victim`, front or back, and uncounts it, under its lock.
+    fn take(&self, victim: usize, front: bool) -> Option<Job> {
+        let mut deque = self.deques[victim].lock();
+        let job = if front { deque.pop_front() } else { deque.pop_back() }?;
+        self.work_count.fetch_sub(1, SeqCst);
+        Some(job)
     }
 
     /// Steals from the back of the other deques, starting with the next worker's so that
@@ -58,41 +74,34 @@ impl StealQueue {
     fn steal(&self, me: Option<usize>) -> Option<Job> {
         let n = self.deques.len();
         let start = me.map_or(0, |m| m + 1);
-        (0..n)
-            .map(|k| (start + k) % n)
-            .filter(|&v| Some(v) != me)
-            .find_map(|v| self.deques[v].lock().pop_back())
+        (0..n).map(|k| (start + k) % n).filter(|&v| Some(v) != me).find_map(|v| self.take(v, false))
     }
 }
 
 impl JobQueue for StealQueue {
     fn push(&self, job: Job, me: Option<usize>) {
         let target = me.unwrap_or_else(|| self.next_deque.fetch_add(1, SeqCst) % self.deques.len());
-        self.work_count.fetch_add(1, SeqCst);
-        self.deques[target].lock().push_back(job);
+        self.land(target, [job]);
         self.sleep.wake_one();
     }
 
     /// Deals the batch out in `workers` contiguous runs, run `k` to worker `k`'s deque.
     fn push_batch(&self, jobs: Vec<Job>, _me: Option<usize>) {
         let (total, n) = (jobs.len(), self.deques.len());
-        self.work_count.fetch_add(total, SeqCst);
         let mut jobs = jobs.into_iter();
-        for (k, deque) in self.deques.iter().enumerate() {
+        for k in 0..n {
             let run = (k + 1) * total / n - k * total / n;
-            deque.lock().extend(jobs.by_ref().take(run));
+            self.land(k, jobs.by_ref().take(run));
         }
         debug_assert!(jobs.next().is_none(), "every job was dealt");
         self.sleep.wake_all();
     }
 
     fn try_pop(&self, me: Option<usize>) -> Option<Popped> {
-        let popped = match me.and_then(|m| self.pop_own(m)) {
-            Some(job) => Popped { job, stolen: false },
-            None => Popped { job: self.steal(me)?, stolen: true },
-        };
-        self.work_count.fetch_sub(1, SeqCst);
-        Some(popped)
+        match me.and_then(|m| self.take(m, true)) {
+            Some(job) => Some(Popped { job, stolen: false }),
+            None => Some(Popped { job: self.steal(me)?, stolen: true }),
+        }
     }
 
     fn wait_pop(&self, me: usize) -> Option<Popped> {
@@ -103,8 +112,7 @@ impl JobQueue for StealQueue {
             if self.closed.load(SeqCst) && self.work_count.load(SeqCst) == 0 {
                 return None;
             }
-            // A job being pushed raised `work_count` before landing in a deque: if the
-            // count is not 0, retry instead of sleeping.
+            // A job counted after this worker looked in its deque: retry instead of sleeping.
             self.sleep.sleep_unless(|| self.work_count.load(SeqCst) > 0 || self.closed.load(SeqCst));
         }
     }
@@ -112,5 +120,59 @@ impl JobQueue for StealQueue {
     fn close(&self) {
         self.closed.store(true, SeqCst);
         self.sleep.wake_all();
+    }
+}
+
+#[cfg(all(test, not(loom)))]
+mod tests {
+    use super::StealQueue;
+    use crate::queue::{Job, JobQueue};
+
+    /// A batch is dealt in contiguous runs whose lengths differ by at most one, in order.
+    #[test]
+    fn a_batch_is_dealt_in_contiguous_runs() {
+        for (workers, jobs, runs) in [(3, 7, vec![2, 2, 3]), (4, 2, vec![0, 1, 0, 1]), (2, 10, vec![5, 5])] {
+            let queue = StealQueue::new(workers);
+            queue.push_batch((0..jobs).map(|_| Job::detached(|| ())).collect(), None);
+            let lengths: Vec<usize> = queue.deques.iter().map(|d| d.lock().len()).collect();
+            assert_eq!(lengths, runs, "{jobs} jobs on {workers} workers");
+            assert_eq!(queue.work_count.load(std::sync::atomic::Ordering::SeqCst), jobs);
+        }
+    }
+}
+
+/// Loom models of the stealing queue (`.ci/run` runs them; see `sync.rs`).
+#[cfg(all(test, loom))]
+mod model {
+    use std::sync::Arc;
+    use std::sync::atomic::Ordering::SeqCst;
+
+    use super::StealQueue;
+    use crate::queue::JobQueue;
+    use crate::queue::model::{Runs, run_until_none, two_workers_drain_then_exit};
+    use crate::sync::thread;
+
+    /// Worker 0 pops its own deque's front while worker 1 steals from its back.
+    #[test]
+    fn model_owner_and_thief_run_each_job_once() {
+        loom::model(|| {
+            let queue = Arc::new(StealQueue::new(2));
+            let runs = Runs::new(2);
+            queue.push(runs.job(0), Some(0));
+            queue.push(runs.job(1), Some(0));
+            let thief = thread::spawn({
+                let queue = Arc::clone(&queue);
+                move || run_until_none(|| queue.try_pop(Some(1)))
+            });
+            run_until_none(|| queue.try_pop(Some(0)));
+            thief.join().unwrap();
+            runs.assert_each_ran_once();
+            assert_eq!(queue.work_count.load(SeqCst), 0, "work_count counts what is queued");
+        });
+    }
+
+    #[test]
+    fn model_workers_run_every_job_and_exit_on_close() {
+        loom::model(|| two_workers_drain_then_exit(Arc::new(StealQueue::new(2))));
     }
 }

@@ -20,6 +20,7 @@ use std::time::Instant;
 
 use crate::queue::{JobQueue, Popped};
 use crate::stats::{JobSpan, WorkerCounters};
+use crate::sync::thread_local;
 
 /// What a pool's workers and submitters share.
 pub(crate) struct Registry {
@@ -33,7 +34,10 @@ pub(crate) struct Registry {
 
 thread_local! {
     /// `(address of the worker's Registry, worker index)`, or `(0, 0)` on other threads.
-    static CURRENT: Cell<(usize, usize)> = const { Cell::new((0, 0)) };
+    // Not a `const` initialiser: loom's `thread_local!` takes none. The lazy check costs a
+    // branch per `spawn` or `batch` call, not per job.
+    #[allow(clippy::missing_const_for_thread_local)]
+    static CURRENT: Cell<(usize, usize)> = Cell::new((0, 0));
 }
 
 impl Registry {

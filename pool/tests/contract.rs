@@ -8,221 +8,253 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering::Relaxed};
 use std::time::Duration;
 
-use common::{ALL, quiet_deliberate_panics, scaled, spin};
+use common::{quiet_deliberate_panics, scaled, spin, within};
 use pool::{BuildError, Discipline, ThreadPool};
 
 #[test]
 fn a_million_jobs_each_run_exactly_once() {
     const JOBS: usize = scaled(1_000_000);
-    for discipline in ALL {
-        let pool = ThreadPool::new(4, discipline).unwrap();
-        let runs: Arc<Vec<AtomicU8>> = Arc::new((0..JOBS).map(|_| AtomicU8::new(0)).collect());
-        let ids = pool.batch((0..JOBS).map(|id| {
-            let runs = Arc::clone(&runs);
-            move || {
-                runs[id].fetch_add(1, Relaxed);
-                id
-            }
-        }));
-        assert!(ids.iter().enumerate().all(|(i, &id)| i == id), "{discipline:?}: results out of order");
-        let wrong: Vec<_> = (0..JOBS).filter(|&id| runs[id].load(Relaxed) != 1).take(5).collect();
-        assert!(
-            wrong.is_empty(),
-            "{discipline:?}: jobs {wrong:?} ran {:?} times",
-            runs[wrong[0]].load(Relaxed)
-        );
-        assert_eq!(pool.stats().total_jobs(), JOBS as u64);
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: the million-job batch returned"), move || {
+            let pool = ThreadPool::new(4, discipline).unwrap();
+            let runs: Arc<Vec<AtomicU8>> = Arc::new((0..JOBS).map(|_| AtomicU8::new(0)).collect());
+            let ids = pool.batch((0..JOBS).map(|id| {
+                let runs = Arc::clone(&runs);
+                move || {
+                    runs[id].fetch_add(1, Relaxed);
+                    id
+                }
+            }));
+            assert!(ids.iter().enumerate().all(|(i, &id)| i == id), "{discipline:?}: results out of order");
+            let wrong: Vec<_> = (0..JOBS).filter(|&id| runs[id].load(Relaxed) != 1).take(5).collect();
+            assert!(
+                wrong.is_empty(),
+                "{discipline:?}: jobs {wrong:?} ran {:?} times",
+                runs[wrong[0]].load(Relaxed)
+            );
+            assert_eq!(pool.stats().total_jobs(), JOBS as u64);
+        });
     }
 }
 
 #[test]
 fn fire_and_forget_jobs_from_many_threads_all_run() {
     const PER_THREAD: usize = scaled(50_000);
-    for discipline in ALL {
-        let counter = Arc::new(AtomicUsize::new(0));
-        {
-            let pool = ThreadPool::new(3, discipline).unwrap();
-            std::thread::scope(|s| {
-                for _ in 0..4 {
-                    s.spawn(|| {
-                        for _ in 0..PER_THREAD {
-                            let counter = Arc::clone(&counter);
-                            pool.spawn(move || {
-                                counter.fetch_add(1, Relaxed);
-                            });
-                        }
-                    });
-                }
-            });
-        } // drop: runs everything queued
-        assert_eq!(counter.load(Relaxed), 4 * PER_THREAD, "{discipline:?}");
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: the pool ran and dropped 200,000 spawned jobs"), move || {
+            let counter = Arc::new(AtomicUsize::new(0));
+            {
+                let pool = ThreadPool::new(3, discipline).unwrap();
+                std::thread::scope(|s| {
+                    for _ in 0..4 {
+                        s.spawn(|| {
+                            for _ in 0..PER_THREAD {
+                                let counter = Arc::clone(&counter);
+                                pool.spawn(move || {
+                                    counter.fetch_add(1, Relaxed);
+                                });
+                            }
+                        });
+                    }
+                });
+            } // drop: runs everything queued
+            assert_eq!(counter.load(Relaxed), 4 * PER_THREAD, "{discipline:?}");
+        });
     }
 }
 
 #[test]
 fn random_job_lengths_keep_order_and_count() {
-    for discipline in ALL {
-        let pool = ThreadPool::builder().workers(3).discipline(discipline).instrument(true).build().unwrap();
-        // A cheap deterministic pseudo-random length per job: 0–200 µs.
-        let lengths: Vec<u64> = (0..500u64).map(|i| (i.wrapping_mul(2_654_435_761) >> 7) % 200).collect();
-        let out = pool.batch(lengths.iter().map(|&us| {
-            move || {
-                spin(us);
-                us
-            }
-        }));
-        assert_eq!(out, lengths, "{discipline:?}");
-        let stats = pool.stats();
-        assert_eq!(stats.total_jobs(), 500);
-        let busy: Duration = stats.workers.iter().map(|w| w.busy).sum();
-        assert!(busy >= Duration::from_micros(lengths.iter().sum()), "{discipline:?}: busy {busy:?}");
-        assert_eq!(pool.take_trace().len(), 500);
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: the batch of 500 uneven jobs returned"), move || {
+            let pool =
+                ThreadPool::builder().workers(3).discipline(discipline).instrument(true).build().unwrap();
+            // A cheap deterministic pseudo-random length per job: 0–200 µs.
+            let lengths: Vec<u64> = (0..500u64).map(|i| (i.wrapping_mul(2_654_435_761) >> 7) % 200).collect();
+            let out = pool.batch(lengths.iter().map(|&us| {
+                move || {
+                    spin(us);
+                    us
+                }
+            }));
+            assert_eq!(out, lengths, "{discipline:?}");
+            let stats = pool.stats();
+            assert_eq!(stats.total_jobs(), 500);
+            let busy: Duration = stats.workers.iter().map(|w| w.busy).sum();
+            assert!(busy >= Duration::from_micros(lengths.iter().sum()), "{discipline:?}: busy {busy:?}");
+            assert_eq!(pool.take_trace().len(), 500);
+        });
     }
 }
 
 #[test]
 fn a_panicking_batch_job_is_reraised_after_the_others_finish() {
     quiet_deliberate_panics();
-    for discipline in ALL {
-        let pool = ThreadPool::new(2, discipline).unwrap();
-        let finished = Arc::new(AtomicUsize::new(0));
-        let jobs: Vec<Box<dyn FnOnce() -> usize + Send>> = (0..20usize)
-            .map(|i| {
-                let finished = Arc::clone(&finished);
-                Box::new(move || {
-                    if i % 7 == 3 {
-                        panic!("deliberate panic in job {i}");
-                    }
-                    spin(100);
-                    finished.fetch_add(1, Relaxed);
-                    i
-                }) as Box<dyn FnOnce() -> usize + Send>
-            })
-            .collect();
-        let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| pool.batch(jobs)));
-        let payload = caught.expect_err("the batch must re-raise the job's panic");
-        let message = payload.downcast_ref::<String>().cloned().unwrap_or_default();
-        assert_eq!(
-            message, "deliberate panic in job 3",
-            "{discipline:?}: the first panic in submission order"
-        );
-        assert_eq!(finished.load(Relaxed), 17, "{discipline:?}: the other jobs all ran");
-        // The pool is unharmed: same workers, still working.
-        assert_eq!(pool.batch((0..100).map(|i| move || i)).len(), 100);
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: the batch with panicking jobs returned"), move || {
+            let pool = ThreadPool::new(2, discipline).unwrap();
+            let finished = Arc::new(AtomicUsize::new(0));
+            let jobs: Vec<Box<dyn FnOnce() -> usize + Send>> = (0..20usize)
+                .map(|i| {
+                    let finished = Arc::clone(&finished);
+                    Box::new(move || {
+                        if i % 7 == 3 {
+                            panic!("deliberate panic in job {i}");
+                        }
+                        spin(100);
+                        finished.fetch_add(1, Relaxed);
+                        i
+                    }) as Box<dyn FnOnce() -> usize + Send>
+                })
+                .collect();
+            let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| pool.batch(jobs)));
+            let payload = caught.expect_err("the batch must re-raise the job's panic");
+            let message = payload.downcast_ref::<String>().cloned().unwrap_or_default();
+            assert_eq!(
+                message, "deliberate panic in job 3",
+                "{discipline:?}: the first panic in submission order"
+            );
+            assert_eq!(finished.load(Relaxed), 17, "{discipline:?}: the other jobs all ran");
+            // The pool is unharmed: same workers, still working.
+            assert_eq!(pool.batch((0..100).map(|i| move || i)).len(), 100);
+        });
     }
 }
 
 #[test]
 fn panicking_spawned_jobs_do_not_kill_workers() {
     quiet_deliberate_panics();
-    for discipline in ALL {
-        let pool = ThreadPool::new(2, discipline).unwrap();
-        for _ in 0..50 {
-            pool.spawn(|| panic!("deliberate panic"));
-        }
-        // Both workers survive 50 panics and still run a batch.
-        assert_eq!(pool.batch((0..10).map(|i| move || i * 2)).iter().sum::<i32>(), 90);
-        // The batch can finish while the last panicking jobs are still being counted.
-        let panics = || pool.stats().workers.iter().map(|w| w.panics).sum::<u64>();
-        let deadline = std::time::Instant::now() + Duration::from_secs(10);
-        while panics() < 50 && std::time::Instant::now() < deadline {
-            std::thread::sleep(Duration::from_millis(1));
-        }
-        assert_eq!(panics(), 50, "{discipline:?}");
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: the batch after 50 panicking jobs returned"), move || {
+            let pool = ThreadPool::new(2, discipline).unwrap();
+            for _ in 0..50 {
+                pool.spawn(|| panic!("deliberate panic"));
+            }
+            // Both workers survive 50 panics and still run a batch.
+            assert_eq!(pool.batch((0..10).map(|i| move || i * 2)).iter().sum::<i32>(), 90);
+            // The batch can finish while the last panicking jobs are still being counted.
+            let panics = || pool.stats().workers.iter().map(|w| w.panics).sum::<u64>();
+            let deadline = std::time::Instant::now() + Duration::from_secs(10);
+            while panics() < 50 && std::time::Instant::now() < deadline {
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            assert_eq!(panics(), 50, "{discipline:?}");
+        });
     }
 }
 
 #[test]
 fn nested_batches_do_not_deadlock_even_on_one_worker() {
-    for discipline in ALL {
-        for workers in [1, 2, 4] {
-            let pool = Arc::new(ThreadPool::new(workers, discipline).unwrap());
-            // Every outer job waits on an inner batch: with `workers` outer jobs running, a
-            // pool whose waiting workers did not help would have nobody to run the inner ones.
-            let outer = pool.batch((0..8u64).map(|i| {
-                let pool = Arc::clone(&pool);
-                move || {
-                    let inner = pool.batch((0..10u64).map(move |j| move || i * 100 + j));
-                    // And one level deeper.
-                    let deeper = pool.batch([move || i]);
-                    inner.iter().sum::<u64>() + deeper[0]
+    for discipline in Discipline::ALL {
+        within(
+            format!(
+                "{discipline:?}: the nested batches returned (a worker waiting on a batch must run queued jobs)"
+            ),
+            move || {
+                for workers in [1, 2, 4] {
+                    let pool = Arc::new(ThreadPool::new(workers, discipline).unwrap());
+                    // Every outer job waits on an inner batch: with `workers` outer jobs running, a
+                    // pool whose waiting workers did not help would have nobody to run the inner ones.
+                    let outer = pool.batch((0..8u64).map(|i| {
+                        let pool = Arc::clone(&pool);
+                        move || {
+                            let inner = pool.batch((0..10u64).map(move |j| move || i * 100 + j));
+                            // And one level deeper.
+                            let deeper = pool.batch([move || i]);
+                            inner.iter().sum::<u64>() + deeper[0]
+                        }
+                    }));
+                    let expected: Vec<u64> =
+                        (0..8).map(|i| (0..10).map(|j| i * 100 + j).sum::<u64>() + i).collect();
+                    assert_eq!(outer, expected, "{discipline:?} with {workers} workers");
                 }
-            }));
-            let expected: Vec<u64> = (0..8).map(|i| (0..10).map(|j| i * 100 + j).sum::<u64>() + i).collect();
-            assert_eq!(outer, expected, "{discipline:?} with {workers} workers");
-        }
+            },
+        );
     }
 }
 
 #[test]
 fn drop_runs_every_queued_job_then_joins() {
-    for discipline in ALL {
-        let done = Arc::new(AtomicUsize::new(0));
-        let pool = ThreadPool::new(2, discipline).unwrap();
-        for _ in 0..200 {
-            let done = Arc::clone(&done);
-            pool.spawn(move || {
-                spin(200);
-                done.fetch_add(1, Relaxed);
-            });
-        }
-        drop(pool); // most of the 200 jobs are still queued here
-        assert_eq!(done.load(Relaxed), 200, "{discipline:?}");
+    for discipline in Discipline::ALL {
+        within(
+            format!("{discipline:?}: drop returned (it runs the queued jobs, then joins every worker)"),
+            move || {
+                let done = Arc::new(AtomicUsize::new(0));
+                let pool = ThreadPool::new(2, discipline).unwrap();
+                for _ in 0..200 {
+                    let done = Arc::clone(&done);
+                    pool.spawn(move || {
+                        spin(200);
+                        done.fetch_add(1, Relaxed);
+                    });
+                }
+                drop(pool); // most of the 200 jobs are still queued here
+                assert_eq!(done.load(Relaxed), 200, "{discipline:?}");
+            },
+        );
     }
 }
 
 #[test]
 fn jobs_spawned_by_jobs_during_drop_still_run() {
-    for discipline in ALL {
-        let done = Arc::new(AtomicUsize::new(0));
-        let pool = Arc::new(ThreadPool::new(2, discipline).unwrap());
-        for _ in 0..20 {
-            let (done, inner_pool) = (Arc::clone(&done), Arc::clone(&pool));
-            pool.spawn(move || {
-                spin(100);
-                let done = Arc::clone(&done);
-                inner_pool.spawn(move || {
-                    done.fetch_add(1, Relaxed);
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: drop returned while jobs were still spawning jobs"), move || {
+            let done = Arc::new(AtomicUsize::new(0));
+            let pool = Arc::new(ThreadPool::new(2, discipline).unwrap());
+            for _ in 0..20 {
+                let (done, inner_pool) = (Arc::clone(&done), Arc::clone(&pool));
+                pool.spawn(move || {
+                    spin(100);
+                    let done = Arc::clone(&done);
+                    inner_pool.spawn(move || {
+                        done.fetch_add(1, Relaxed);
+                    });
                 });
-            });
-        }
-        // The last Arc may be dropped by a job on a worker thread: that must not hang.
-        drop(pool);
-        let deadline = std::time::Instant::now() + Duration::from_secs(10);
-        while done.load(Relaxed) < 20 && std::time::Instant::now() < deadline {
-            std::thread::sleep(Duration::from_millis(1));
-        }
-        assert_eq!(done.load(Relaxed), 20, "{discipline:?}");
+            }
+            // The last Arc may be dropped by a job on a worker thread: that must not hang.
+            drop(pool);
+            let deadline = std::time::Instant::now() + Duration::from_secs(10);
+            while done.load(Relaxed) < 20 && std::time::Instant::now() < deadline {
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            assert_eq!(done.load(Relaxed), 20, "{discipline:?}");
+        });
     }
 }
 
 #[test]
 fn one_worker_runs_everything_in_order() {
-    for discipline in ALL {
-        let pool = ThreadPool::builder().workers(1).discipline(discipline).instrument(true).build().unwrap();
-        let log = Arc::new(parking_lot::Mutex::new(Vec::new()));
-        pool.batch((0..100).map(|i| {
-            let log = Arc::clone(&log);
-            move || log.lock().push(i)
-        }));
-        assert_eq!(*log.lock(), (0..100).collect::<Vec<_>>(), "{discipline:?}: FIFO with one worker");
-        assert!(pool.take_trace().iter().all(|s| s.worker == 0 && !s.stolen));
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: the batch on one worker returned"), move || {
+            let pool =
+                ThreadPool::builder().workers(1).discipline(discipline).instrument(true).build().unwrap();
+            let log = Arc::new(parking_lot::Mutex::new(Vec::new()));
+            pool.batch((0..100).map(|i| {
+                let log = Arc::clone(&log);
+                move || log.lock().push(i)
+            }));
+            assert_eq!(*log.lock(), (0..100).collect::<Vec<_>>(), "{discipline:?}: FIFO with one worker");
+            assert!(pool.take_trace().iter().all(|s| s.worker == 0 && !s.stolen));
+        });
     }
 }
 
 #[test]
 fn sixty_four_workers_on_a_small_machine() {
-    for discipline in ALL {
-        let pool = ThreadPool::new(64, discipline).unwrap();
-        let names = pool.batch((0..640).map(|_| || std::thread::current().name().unwrap_or("").to_owned()));
-        assert!(names.iter().all(|n| n.starts_with("pool-worker-")), "{discipline:?}");
-        assert_eq!(pool.stats().workers.len(), 64);
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: the batch on 64 workers returned"), move || {
+            let pool = ThreadPool::new(64, discipline).unwrap();
+            let names =
+                pool.batch((0..640).map(|_| || std::thread::current().name().unwrap_or("").to_owned()));
+            assert!(names.iter().all(|n| n.starts_with("pool-worker-")), "{discipline:?}");
+            assert_eq!(pool.stats().workers.len(), 64);
+        });
     }
 }
 
 #[test]
 fn zero_workers_is_an_error_not_a_hang() {
-    for discipline in ALL {
+    for discipline in Discipline::ALL {
         let error = ThreadPool::new(0, discipline).err().expect("zero workers must fail");
         assert!(matches!(error, BuildError::NoWorkers));
         assert!(error.to_string().contains("at least one worker"));
@@ -231,41 +263,49 @@ fn zero_workers_is_an_error_not_a_hang() {
 
 #[test]
 fn empty_batch_returns_at_once() {
-    for discipline in ALL {
-        let pool = ThreadPool::new(2, discipline).unwrap();
-        let none: Vec<Box<dyn FnOnce() -> u8 + Send>> = Vec::new();
-        assert!(pool.batch(none).is_empty());
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: the empty batch returned"), move || {
+            let pool = ThreadPool::new(2, discipline).unwrap();
+            let none: Vec<Box<dyn FnOnce() -> u8 + Send>> = Vec::new();
+            assert!(pool.batch(none).is_empty());
+        });
     }
 }
 
 #[test]
 fn stealing_balances_an_uneven_batch() {
-    let pool =
-        ThreadPool::builder().workers(2).discipline(Discipline::Stealing).instrument(true).build().unwrap();
-    // Dealt as [0..50) to worker 0 and [50..100) to worker 1. Job 0 holds worker 0 until job 1
-    // has run; job 1 sits behind it in worker 0's own deque, so only a thief can run it: the
-    // test does not depend on how the OS schedules the two workers.
-    let job1_ran = Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let waited = pool.batch((0..100u64).map(|i| {
-        let job1_ran = Arc::clone(&job1_ran);
-        move || match i {
-            0 => {
-                let deadline = std::time::Instant::now() + Duration::from_secs(10);
-                while !job1_ran.load(Relaxed) && std::time::Instant::now() < deadline {
-                    std::thread::yield_now();
+    within("Stealing: the uneven batch returned", || {
+        let pool = ThreadPool::builder()
+            .workers(2)
+            .discipline(Discipline::Stealing)
+            .instrument(true)
+            .build()
+            .unwrap();
+        // Dealt as [0..50) to worker 0 and [50..100) to worker 1. Job 0 holds worker 0 until job 1
+        // has run; job 1 sits behind it in worker 0's own deque, so only a thief can run it: the
+        // test does not depend on how the OS schedules the two workers.
+        let job1_ran = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let waited = pool.batch((0..100u64).map(|i| {
+            let job1_ran = Arc::clone(&job1_ran);
+            move || match i {
+                0 => {
+                    let deadline = std::time::Instant::now() + Duration::from_secs(10);
+                    while !job1_ran.load(Relaxed) && std::time::Instant::now() < deadline {
+                        std::thread::yield_now();
+                    }
+                    job1_ran.load(Relaxed)
                 }
-                job1_ran.load(Relaxed)
+                1 => {
+                    job1_ran.store(true, Relaxed);
+                    true
+                }
+                _ => true,
             }
-            1 => {
-                job1_ran.store(true, Relaxed);
-                true
-            }
-            _ => true,
-        }
-    }));
-    assert!(waited[0], "job 1 was never stolen from behind the blocked job 0");
-    let stats = pool.stats();
-    assert!(stats.workers[1].jobs_stolen > 0, "worker 1 ran dry and must have stolen: {stats:?}");
-    let spans = pool.take_trace();
-    assert!(spans.iter().any(|s| s.stolen && s.worker == 1));
+        }));
+        assert!(waited[0], "job 1 was never stolen from behind the blocked job 0");
+        let stats = pool.stats();
+        assert!(stats.workers[1].jobs_stolen > 0, "worker 1 ran dry and must have stolen: {stats:?}");
+        let spans = pool.take_trace();
+        assert!(spans.iter().any(|s| s.stolen && s.worker == 1));
+    });
 }

@@ -18,13 +18,15 @@ fn process_cpu() -> std::time::Duration {
 #[cfg(target_os = "linux")]
 #[test]
 fn an_idle_pool_of_four_uses_under_20_ms_of_cpu_per_second() {
-    for discipline in common::ALL {
-        let pool = pool::ThreadPool::new(4, discipline).unwrap();
-        pool.batch((0..100).map(|i| move || i)); // wake everyone once, then go idle
-        let before = process_cpu();
-        std::thread::sleep(std::time::Duration::from_secs(1));
-        let used = process_cpu() - before;
-        assert!(used.as_millis() < 20, "{discipline:?}: idle pool used {used:?} of CPU in 1 s");
-        drop(pool);
+    for discipline in pool::Discipline::ALL {
+        common::within(format!("{discipline:?}: the idle pool's batch and drop returned"), move || {
+            let pool = pool::ThreadPool::new(4, discipline).unwrap();
+            pool.batch((0..100).map(|i| move || i)); // wake everyone once, then go idle
+            let before = process_cpu();
+            std::thread::sleep(std::time::Duration::from_secs(1));
+            let used = process_cpu() - before;
+            assert!(used.as_millis() < 20, "{discipline:?}: idle pool used {used:?} of CPU in 1 s");
+            drop(pool);
+        });
     }
 }

@@ -30,12 +30,14 @@ fn settled_thread_count(want: usize) -> usize {
 #[cfg(target_os = "linux")]
 #[test]
 fn thread_count_returns_to_its_start_after_drop() {
-    let before = thread_count();
-    for discipline in common::ALL {
-        let pool = pool::ThreadPool::new(8, discipline).unwrap();
-        assert_eq!(settled_thread_count(before + 8), before + 8, "{discipline:?}: eight named workers");
-        pool.batch((0..100).map(|i| move || i));
-        drop(pool);
-        assert_eq!(settled_thread_count(before), before, "{discipline:?}: every worker joined");
-    }
+    common::within("eight-worker pools started, ran a batch and were dropped", || {
+        let before = thread_count();
+        for discipline in pool::Discipline::ALL {
+            let pool = pool::ThreadPool::new(8, discipline).unwrap();
+            assert_eq!(settled_thread_count(before + 8), before + 8, "{discipline:?}: eight named workers");
+            pool.batch((0..100).map(|i| move || i));
+            drop(pool);
+            assert_eq!(settled_thread_count(before), before, "{discipline:?}: every worker joined");
+        }
+    });
 }

@@ -1,14 +1,54 @@
 //! Helpers shared by the pool's test files.
 #![allow(dead_code)] // each test file uses a subset of these
 
-use pool::Discipline;
+use std::panic::resume_unwind;
+use std::sync::mpsc;
+use std::time::Duration;
 
-pub const ALL: [Discipline; 3] = [Discipline::Shared, Discipline::Locked, Discipline::Stealing];
+/// How long any one blocking step of a test may take before the test fails. Far above what
+/// the slowest step needs (a million-job batch in a debug build on a loaded 2-core machine
+/// takes a few seconds), far below a CI time limit.
+pub const DEADLINE: Duration = Duration::from_secs(60);
 
 /// Stress sizes scale down in debug builds so that `cargo test` stays quick; the README's
 /// `cargo test --release` runs them at full size.
 pub const fn scaled(n: usize) -> usize {
     if cfg!(debug_assertions) { n / 20 } else { n }
+}
+
+/// Runs `body` on a thread of its own and waits for it at most [`DEADLINE`]. If it has not
+/// finished by then, the test fails with "`what` never happened": a pool bug that blocks
+/// (a lost wake-up, a worker that waits without helping) is a failure a student can read,
+/// not a hang. The stuck thread is left behind; the test binary exits regardless.
+///
+/// A panic in `body` (a failed assertion) is re-raised here unchanged.
+pub fn within<T: Send + 'static>(what: impl AsRef<str>, body: impl FnOnce() -> T + Send + 'static) -> T {
+    within_for(DEADLINE, what, body)
+}
+
+/// [`within`] with a deadline of the caller's choosing.
+pub fn within_for<T: Send + 'static>(
+    limit: Duration,
+    what: impl AsRef<str>,
+    body: impl FnOnce() -> T + Send + 'static,
+) -> T {
+    let (done, finished) = mpsc::channel();
+    let thread = std::thread::Builder::new()
+        .name("test-body".into())
+        .spawn(move || {
+            let _ = done.send(body());
+        })
+        .expect("a test thread starts");
+    match finished.recv_timeout(limit) {
+        Ok(value) => value,
+        Err(mpsc::RecvTimeoutError::Disconnected) => match thread.join() {
+            Err(panic) => resume_unwind(panic),
+            Ok(()) => unreachable!("the body sends before it returns"),
+        },
+        Err(mpsc::RecvTimeoutError::Timeout) => {
+            panic!("{} never happened (waited {} s)", what.as_ref(), limit.as_secs())
+        }
+    }
 }
 
 /// Silences the default panic message for the tests' deliberate panics only.
