@@ -19,7 +19,6 @@ const THREAD_JOBS: usize = 2_000;
 const UNEVEN_JOBS: usize = 10_000;
 const UNEVEN_RUNS: usize = 7;
 
-
 fn main() {
     let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
     let mut criterion =

@@ -1,6 +1,7 @@
 //! The pool's contract, for every queue discipline: every job runs exactly once, results
 //! come back in order, panics are contained, nesting cannot deadlock, drop runs what is
 //! queued.
+#![cfg(not(loom))] // a `--cfg loom` build runs the loom models only (see pool/src/sync.rs)
 
 mod common;
 
@@ -15,7 +16,7 @@ use pool::{BuildError, Discipline, ThreadPool};
 fn a_million_jobs_each_run_exactly_once() {
     const JOBS: usize = scaled(1_000_000);
     for discipline in Discipline::ALL {
-        within(format!("{discipline:?}: the million-job batch returned"), move || {
+        within(format!("{discipline:?}: the million-job batch to return"), move || {
             let pool = ThreadPool::new(4, discipline).unwrap();
             let runs: Arc<Vec<AtomicU8>> = Arc::new((0..JOBS).map(|_| AtomicU8::new(0)).collect());
             let ids = pool.batch((0..JOBS).map(|id| {
@@ -41,7 +42,7 @@ fn a_million_jobs_each_run_exactly_once() {
 fn fire_and_forget_jobs_from_many_threads_all_run() {
     const PER_THREAD: usize = scaled(50_000);
     for discipline in Discipline::ALL {
-        within(format!("{discipline:?}: the pool ran and dropped 200,000 spawned jobs"), move || {
+        within(format!("{discipline:?}: the pool to run 200,000 spawned jobs and be dropped"), move || {
             let counter = Arc::new(AtomicUsize::new(0));
             {
                 let pool = ThreadPool::new(3, discipline).unwrap();
@@ -66,23 +67,30 @@ fn fire_and_forget_jobs_from_many_threads_all_run() {
 #[test]
 fn random_job_lengths_keep_order_and_count() {
     for discipline in Discipline::ALL {
-        within(format!("{discipline:?}: the batch of 500 uneven jobs returned"), move || {
+        within(format!("{discipline:?}: the batch of 500 uneven jobs to return"), move || {
             let pool =
                 ThreadPool::builder().workers(3).discipline(discipline).instrument(true).build().unwrap();
             // A cheap deterministic pseudo-random length per job: 0–200 µs.
             let lengths: Vec<u64> = (0..500u64).map(|i| (i.wrapping_mul(2_654_435_761) >> 7) % 200).collect();
+            let start = std::time::Instant::now();
             let out = pool.batch(lengths.iter().map(|&us| {
                 move || {
                     spin(us);
                     us
                 }
             }));
+            let wall = start.elapsed();
             assert_eq!(out, lengths, "{discipline:?}");
             let stats = pool.stats();
             assert_eq!(stats.total_jobs(), 500);
             let busy: Duration = stats.workers.iter().map(|w| w.busy).sum();
             assert!(busy >= Duration::from_micros(lengths.iter().sum()), "{discipline:?}: busy {busy:?}");
-            assert_eq!(pool.take_trace().len(), 500);
+            // Three workers cannot be busy for longer than three times the batch's wall time.
+            assert!(busy <= 3 * wall, "{discipline:?}: busy {busy:?} in a batch of {wall:?} on 3 workers");
+            let spans = pool.take_trace();
+            assert_eq!(spans.len(), 500);
+            let span_sum: Duration = spans.iter().map(|s| s.end - s.start).sum();
+            assert_eq!(span_sum, busy, "{discipline:?}: busy time is the sum of the spans");
         });
     }
 }
@@ -91,7 +99,7 @@ fn random_job_lengths_keep_order_and_count() {
 fn a_panicking_batch_job_is_reraised_after_the_others_finish() {
     quiet_deliberate_panics();
     for discipline in Discipline::ALL {
-        within(format!("{discipline:?}: the batch with panicking jobs returned"), move || {
+        within(format!("{discipline:?}: the batch with panicking jobs to return"), move || {
             let pool = ThreadPool::new(2, discipline).unwrap();
             let finished = Arc::new(AtomicUsize::new(0));
             let jobs: Vec<Box<dyn FnOnce() -> usize + Send>> = (0..20usize)
@@ -125,7 +133,7 @@ fn a_panicking_batch_job_is_reraised_after_the_others_finish() {
 fn panicking_spawned_jobs_do_not_kill_workers() {
     quiet_deliberate_panics();
     for discipline in Discipline::ALL {
-        within(format!("{discipline:?}: the batch after 50 panicking jobs returned"), move || {
+        within(format!("{discipline:?}: the batch after 50 panicking jobs to return"), move || {
             let pool = ThreadPool::new(2, discipline).unwrap();
             for _ in 0..50 {
                 pool.spawn(|| panic!("deliberate panic"));
@@ -148,7 +156,7 @@ fn nested_batches_do_not_deadlock_even_on_one_worker() {
     for discipline in Discipline::ALL {
         within(
             format!(
-                "{discipline:?}: the nested batches returned (a worker waiting on a batch must run queued jobs)"
+                "{discipline:?}: the nested batches to return (a worker waiting on a batch must run queued jobs)"
             ),
             move || {
                 for workers in [1, 2, 4] {
@@ -177,7 +185,7 @@ fn nested_batches_do_not_deadlock_even_on_one_worker() {
 fn drop_runs_every_queued_job_then_joins() {
     for discipline in Discipline::ALL {
         within(
-            format!("{discipline:?}: drop returned (it runs the queued jobs, then joins every worker)"),
+            format!("{discipline:?}: drop to return (it runs the queued jobs, then joins every worker)"),
             move || {
                 let done = Arc::new(AtomicUsize::new(0));
                 let pool = ThreadPool::new(2, discipline).unwrap();
@@ -198,7 +206,7 @@ fn drop_runs_every_queued_job_then_joins() {
 #[test]
 fn jobs_spawned_by_jobs_during_drop_still_run() {
     for discipline in Discipline::ALL {
-        within(format!("{discipline:?}: drop returned while jobs were still spawning jobs"), move || {
+        within(format!("{discipline:?}: drop to return while jobs were still spawning jobs"), move || {
             let done = Arc::new(AtomicUsize::new(0));
             let pool = Arc::new(ThreadPool::new(2, discipline).unwrap());
             for _ in 0..20 {
@@ -225,7 +233,7 @@ fn jobs_spawned_by_jobs_during_drop_still_run() {
 #[test]
 fn one_worker_runs_everything_in_order() {
     for discipline in Discipline::ALL {
-        within(format!("{discipline:?}: the batch on one worker returned"), move || {
+        within(format!("{discipline:?}: the batch on one worker to return"), move || {
             let pool =
                 ThreadPool::builder().workers(1).discipline(discipline).instrument(true).build().unwrap();
             let log = Arc::new(parking_lot::Mutex::new(Vec::new()));
@@ -242,7 +250,7 @@ fn one_worker_runs_everything_in_order() {
 #[test]
 fn sixty_four_workers_on_a_small_machine() {
     for discipline in Discipline::ALL {
-        within(format!("{discipline:?}: the batch on 64 workers returned"), move || {
+        within(format!("{discipline:?}: the batch on 64 workers to return"), move || {
             let pool = ThreadPool::new(64, discipline).unwrap();
             let names =
                 pool.batch((0..640).map(|_| || std::thread::current().name().unwrap_or("").to_owned()));
@@ -264,7 +272,7 @@ fn zero_workers_is_an_error_not_a_hang() {
 #[test]
 fn empty_batch_returns_at_once() {
     for discipline in Discipline::ALL {
-        within(format!("{discipline:?}: the empty batch returned"), move || {
+        within(format!("{discipline:?}: the empty batch to return"), move || {
             let pool = ThreadPool::new(2, discipline).unwrap();
             let none: Vec<Box<dyn FnOnce() -> u8 + Send>> = Vec::new();
             assert!(pool.batch(none).is_empty());
@@ -274,7 +282,7 @@ fn empty_batch_returns_at_once() {
 
 #[test]
 fn stealing_balances_an_uneven_batch() {
-    within("Stealing: the uneven batch returned", || {
+    within("Stealing: the uneven batch to return", || {
         let pool = ThreadPool::builder()
             .workers(2)
             .discipline(Discipline::Stealing)
@@ -308,4 +316,119 @@ fn stealing_balances_an_uneven_batch() {
         let spans = pool.take_trace();
         assert!(spans.iter().any(|s| s.stolen && s.worker == 1));
     });
+}
+
+#[test]
+fn a_waiting_worker_returns_as_soon_as_its_batch_is_done() {
+    // One worker runs job A, which waits on an inner batch [x]; x spawns job J. Once x is done,
+    // A's batch is done: the worker must return to A at once, not first run J (or whatever
+    // else is queued), or a nested batch's latency would grow with the whole queue.
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: the nested batch to return"), move || {
+            let pool = Arc::new(ThreadPool::new(1, discipline).unwrap());
+            let j_ran = Arc::new(AtomicUsize::new(0));
+            let (inner_pool, j) = (Arc::clone(&pool), Arc::clone(&j_ran));
+            let seen_by_a = pool.batch([move || {
+                let spawner = Arc::clone(&inner_pool);
+                inner_pool.batch([move || {
+                    spawner.spawn(move || {
+                        j.fetch_add(1, Relaxed);
+                    })
+                }]);
+                j_ran.load(Relaxed)
+            }]);
+            assert_eq!(
+                seen_by_a,
+                vec![0],
+                "{discipline:?}: the waiting worker ran a job queued after its batch"
+            );
+        });
+    }
+}
+
+#[test]
+fn statistics_record_idle_time_and_an_empty_pool_is_balanced() {
+    assert_eq!(pool::PoolStats::default().imbalance(), 1.0, "no workers: nothing to be unbalanced");
+    for discipline in Discipline::ALL {
+        within(format!("{discipline:?}: the batch after an idle spell to return"), move || {
+            let pool =
+                ThreadPool::builder().workers(2).discipline(discipline).instrument(true).build().unwrap();
+            assert_eq!(pool.stats().imbalance(), 1.0, "{discipline:?}: nothing measured yet");
+            std::thread::sleep(Duration::from_millis(50));
+            pool.batch((0..2).map(|_| || spin(1000)));
+            let idle = pool.stats().workers.iter().map(|w| w.idle).max().unwrap();
+            assert!(
+                idle >= Duration::from_millis(40),
+                "{discipline:?}: 50 ms asleep recorded as {idle:?} idle"
+            );
+        });
+    }
+}
+
+#[test]
+fn every_thief_reaches_every_victim() {
+    // Three workers; the batch [0 1 | 2 3 | 4 5] is dealt two jobs each. Jobs 0 and 2 hold
+    // workers 0 and 1 until job 3 has run, and job 3 sits behind job 2 in worker 1's deque:
+    // only worker 2, once it has run 4 and 5 and stolen 1 from worker 0, can steal it.
+    within("Stealing, 3 workers: the batch whose job 3 only a thief can run to return", || {
+        let pool = ThreadPool::builder().workers(3).discipline(Discipline::Stealing).build().unwrap();
+        let job3_ran = Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let waited = pool.batch((0..6u64).map(|i| {
+            let job3_ran = Arc::clone(&job3_ran);
+            move || match i {
+                0 | 2 => {
+                    let deadline = std::time::Instant::now() + Duration::from_secs(10);
+                    while !job3_ran.load(Relaxed) && std::time::Instant::now() < deadline {
+                        std::thread::yield_now();
+                    }
+                    job3_ran.load(Relaxed)
+                }
+                3 => {
+                    job3_ran.store(true, Relaxed);
+                    true
+                }
+                _ => true,
+            }
+        }));
+        assert!(
+            waited[0] && waited[2],
+            "job 3 was never stolen from behind the blocked job 2: some thief skips a victim"
+        );
+    });
+}
+
+#[test]
+fn a_worker_of_another_pool_never_runs_this_pools_jobs() {
+    // A job on pool A waits on a batch of pool B while B's only worker is busy. A's worker is
+    // not B's: it must sleep, not help, so B's jobs still run on B's own thread only.
+    for discipline in Discipline::ALL {
+        within(
+            format!("{discipline:?}: a batch submitted to one pool from another's job to return"),
+            move || {
+                let a = ThreadPool::new(1, discipline).unwrap();
+                let b = Arc::new(ThreadPool::new(1, discipline).unwrap());
+                let b_thread = b.batch([|| std::thread::current().id()])[0];
+                let go = Arc::new(std::sync::atomic::AtomicBool::new(false));
+                let hold = Arc::clone(&go);
+                b.spawn(move || {
+                    let deadline = std::time::Instant::now() + Duration::from_secs(10);
+                    while !hold.load(Relaxed) && std::time::Instant::now() < deadline {
+                        std::thread::yield_now();
+                    }
+                });
+                let release = Arc::clone(&go);
+                let releaser = std::thread::spawn(move || {
+                    std::thread::sleep(Duration::from_millis(100));
+                    release.store(true, Relaxed);
+                });
+                let b_in_a = Arc::clone(&b);
+                let threads = a.batch([move || b_in_a.batch((0..4).map(|_| || std::thread::current().id()))]);
+                releaser.join().unwrap();
+                assert!(
+                    threads[0].iter().all(|&t| t == b_thread),
+                    "{discipline:?}: pool B's jobs ran on a thread that is not B's worker"
+                );
+            },
+        );
+    }
 }

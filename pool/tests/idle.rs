@@ -1,5 +1,6 @@
 //! An idle pool sleeps: its workers burn (almost) no CPU. (Own test binary: it reads the
 //! CPU time of every thread of the process.)
+#![cfg(not(loom))] // a `--cfg loom` build runs the loom models only (see pool/src/sync.rs)
 
 mod common;
 
@@ -19,7 +20,7 @@ fn process_cpu() -> std::time::Duration {
 #[test]
 fn an_idle_pool_of_four_uses_under_20_ms_of_cpu_per_second() {
     for discipline in pool::Discipline::ALL {
-        common::within(format!("{discipline:?}: the idle pool's batch and drop returned"), move || {
+        common::within(format!("{discipline:?}: the idle pool's batch and drop to return"), move || {
             let pool = pool::ThreadPool::new(4, discipline).unwrap();
             pool.batch((0..100).map(|i| move || i)); // wake everyone once, then go idle
             let before = process_cpu();

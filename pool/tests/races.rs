@@ -7,6 +7,7 @@
 //!
 //! The loom models (`pool/src/*.rs`, `pool/tests/loom.rs`) prove the protocols on small
 //! models; these run the real pool, with real threads, many thousand times.
+#![cfg(not(loom))] // a `--cfg loom` build runs the loom models only (see pool/src/sync.rs)
 
 mod common;
 
@@ -37,27 +38,30 @@ fn a_job_pushed_as_the_worker_falls_asleep_still_runs() {
     const HAND_OFFS: usize = scaled(20_000);
     for discipline in Discipline::ALL {
         for workers in [1, 2] {
-            within(format!("{discipline:?}, {workers} workers: {HAND_OFFS} hand-offs finished"), move || {
-                let pool = ThreadPool::new(workers, discipline).unwrap();
-                let (ran, done) = mpsc::channel();
-                for i in 0..HAND_OFFS {
-                    jitter(i % 200);
-                    if i % 2 == 0 {
-                        let ran = ran.clone();
-                        pool.spawn(move || ran.send(i).unwrap());
-                        let got = done.recv_timeout(HAND_OFF_LIMIT);
-                        assert_eq!(
-                            got,
-                            Ok(i),
-                            "{discipline:?}, {workers} workers: job {i}, spawned as the worker went to \
+            within(
+                format!("{discipline:?}, {workers} workers: {HAND_OFFS} hand-offs to finish"),
+                move || {
+                    let pool = ThreadPool::new(workers, discipline).unwrap();
+                    let (ran, done) = mpsc::channel();
+                    for i in 0..HAND_OFFS {
+                        jitter(i % 200);
+                        if i % 2 == 0 {
+                            let ran = ran.clone();
+                            pool.spawn(move || ran.send(i).unwrap());
+                            let got = done.recv_timeout(HAND_OFF_LIMIT);
+                            assert_eq!(
+                                got,
+                                Ok(i),
+                                "{discipline:?}, {workers} workers: job {i}, spawned as the worker went to \
                              sleep, never ran (a lost wake-up)"
-                        );
-                    } else {
-                        let returned = pool.batch([move || i]);
-                        assert_eq!(returned, vec![i]);
+                            );
+                        } else {
+                            let returned = pool.batch([move || i]);
+                            assert_eq!(returned, vec![i]);
+                        }
                     }
-                }
-            });
+                },
+            );
         }
     }
 }
@@ -72,7 +76,7 @@ fn a_batch_that_needs_every_worker_at_once_finishes() {
     for discipline in Discipline::ALL {
         for workers in [2, 4] {
             within(
-                format!("{discipline:?}, {workers} workers: {ROUNDS} all-hands batches returned"),
+                format!("{discipline:?}, {workers} workers: {ROUNDS} all-hands batches to return"),
                 move || {
                     let pool = ThreadPool::new(workers, discipline).unwrap();
                     for round in 0..ROUNDS {
@@ -111,7 +115,7 @@ fn nested_batches_finish_many_times_over() {
         for workers in [1, 2, 3] {
             within(
                 format!(
-                    "{discipline:?}, {workers} workers: {ROUNDS} rounds of nested batches returned \
+                    "{discipline:?}, {workers} workers: {ROUNDS} rounds of nested batches to return \
                      (a worker waiting on a batch must run queued jobs)"
                 ),
                 move || {
@@ -144,7 +148,7 @@ fn nested_batches_finish_many_times_over() {
 fn a_pool_dropped_as_its_workers_fall_asleep_joins_them() {
     const POOLS: usize = scaled(2_000);
     for discipline in Discipline::ALL {
-        within(format!("{discipline:?}: {POOLS} pools dropped and joined"), move || {
+        within(format!("{discipline:?}: {POOLS} pools to be dropped and joined"), move || {
             for i in 0..POOLS {
                 let ran = Arc::new(AtomicUsize::new(0));
                 let pool = ThreadPool::new(1 + i % 3, discipline).unwrap();

@@ -5,10 +5,14 @@ use std::panic::resume_unwind;
 use std::sync::mpsc;
 use std::time::Duration;
 
-/// How long any one blocking step of a test may take before the test fails. Far above what
-/// the slowest step needs (a million-job batch in a debug build on a loaded 2-core machine
-/// takes a few seconds), far below a CI time limit.
-pub const DEADLINE: Duration = Duration::from_secs(60);
+/// How long any one blocking step of a test may take before the test fails: 60 s, or
+/// `POOL_TEST_DEADLINE` seconds (`pool/break-it/run.sh` sets 15). Far above what the slowest
+/// step needs (a million-job batch in a debug build on a loaded 2-core machine takes a few
+/// seconds), far below a CI time limit.
+pub fn deadline() -> Duration {
+    let seconds = std::env::var("POOL_TEST_DEADLINE").ok().and_then(|s| s.parse().ok());
+    Duration::from_secs(seconds.unwrap_or(60))
+}
 
 /// Stress sizes scale down in debug builds so that `cargo test` stays quick; the README's
 /// `cargo test --release` runs them at full size.
@@ -16,14 +20,15 @@ pub const fn scaled(n: usize) -> usize {
     if cfg!(debug_assertions) { n / 20 } else { n }
 }
 
-/// Runs `body` on a thread of its own and waits for it at most [`DEADLINE`]. If it has not
-/// finished by then, the test fails with "`what` never happened": a pool bug that blocks
+/// Runs `body` on a thread of its own and waits for it at most [`deadline`]. If it has not
+/// finished by then, the test fails with "waited N s for `what`: it never happened" (so
+/// `what` reads "the batch to return"): a pool bug that blocks
 /// (a lost wake-up, a worker that waits without helping) is a failure a student can read,
 /// not a hang. The stuck thread is left behind; the test binary exits regardless.
 ///
 /// A panic in `body` (a failed assertion) is re-raised here unchanged.
 pub fn within<T: Send + 'static>(what: impl AsRef<str>, body: impl FnOnce() -> T + Send + 'static) -> T {
-    within_for(DEADLINE, what, body)
+    within_for(deadline(), what, body)
 }
 
 /// [`within`] with a deadline of the caller's choosing.
@@ -46,7 +51,7 @@ pub fn within_for<T: Send + 'static>(
             Ok(()) => unreachable!("the body sends before it returns"),
         },
         Err(mpsc::RecvTimeoutError::Timeout) => {
-            panic!("{} never happened (waited {} s)", what.as_ref(), limit.as_secs())
+            panic!("waited {} s for {}: it never happened", limit.as_secs(), what.as_ref())
         }
     }
 }
