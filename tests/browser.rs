@@ -7,12 +7,14 @@
 //! `RAYPOOL_CI=1`) it fails instead.
 
 mod common;
+mod deadline;
 
 use std::process::Command;
 use std::time::Duration;
 
 use common::browser::{Browser, chromium};
 use common::viewer::Viewer;
+use deadline::output_within;
 use serde_json::json;
 
 const MINUTE: Duration = Duration::from_secs(60);
@@ -66,19 +68,20 @@ fn the_page_renders_live_with_a_lane_per_worker_and_orbits() {
     let dir = std::env::temp_dir().join(format!("raypool-browser-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("scene.toml"), scene).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_raypool"))
-        .args([
-            "render",
-            "--scene-file",
-            dir.join("scene.toml").to_str().unwrap(),
-            "--width",
-            "200",
-            "--spp",
-            "24",
-        ])
-        .args(["--out", dir.join("cli.pfm").to_str().unwrap()])
-        .output()
-        .unwrap();
+    let out = output_within(
+        Command::new(env!("CARGO_BIN_EXE_raypool"))
+            .args([
+                "render",
+                "--scene-file",
+                dir.join("scene.toml").to_str().unwrap(),
+                "--width",
+                "200",
+                "--spp",
+                "24",
+            ])
+            .args(["--out", dir.join("cli.pfm").to_str().unwrap()]),
+        "`raypool render` of the orbited scene to exit",
+    );
     assert!(out.status.success());
     assert_eq!(page.eval("+document.body.dataset.gen"), generation, "no restart since");
     assert!(image == std::fs::read(dir.join("cli.pfm")).unwrap(), "the orbited view is the CLI's image");

@@ -1,10 +1,13 @@
 //! The bounding volume hierarchies, binary and four-wide, find exactly what testing every
 //! sphere finds: the same sphere at the same distance, ties included, whole images included.
 
+mod deadline;
+
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
 use std::sync::Arc;
 
+use deadline::within;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Schedule, render};
@@ -234,26 +237,28 @@ fn the_ray_that_missed_the_ground_now_finds_it() {
 
 #[test]
 fn every_accel_renders_final_at_600_by_400_to_the_same_bytes() {
-    let settings =
-        RenderSettings { width: 600, height: 400, spp: 2, max_depth: 50, seed: 1, ..Default::default() };
-    let scene = builtin_scene("final", DEFAULT_SCENE_SEED).unwrap().to_scene();
-    let render_with = |accel: Accel| {
-        let frame = Arc::new(Frame::new(
-            RenderJob::new(scene.clone().with_accel(accel), settings),
-            RngSource::PerSample(PerSample { seed: settings.seed }),
-            2,
-            16,
-            Arc::new(|_| {}),
-        ));
-        let out = render(&frame, &Schedule::Stealing);
-        (out.image.pixels.iter().map(|p| p.to_array().map(Real::to_bits)).collect::<Vec<_>>(), out.rays)
-    };
-    let reference = render_with(Accel::Wide);
-    for accel in ACCELS {
-        let (pixels, rays) = render_with(accel);
-        assert_eq!(rays, reference.1, "{accel:?}: a different number of rays");
-        assert!(pixels == reference.0, "{accel:?}: a different image");
-    }
+    within("the 600 x 400 renders of final with every accel to finish", move || {
+        let settings =
+            RenderSettings { width: 600, height: 400, spp: 2, max_depth: 50, seed: 1, ..Default::default() };
+        let scene = builtin_scene("final", DEFAULT_SCENE_SEED).unwrap().to_scene();
+        let render_with = |accel: Accel| {
+            let frame = Arc::new(Frame::new(
+                RenderJob::new(scene.clone().with_accel(accel), settings),
+                RngSource::PerSample(PerSample { seed: settings.seed }),
+                2,
+                16,
+                Arc::new(|_| {}),
+            ));
+            let out = render(&frame, &Schedule::Stealing);
+            (out.image.pixels.iter().map(|p| p.to_array().map(Real::to_bits)).collect::<Vec<_>>(), out.rays)
+        };
+        let reference = render_with(Accel::Wide);
+        for accel in ACCELS {
+            let (pixels, rays) = render_with(accel);
+            assert_eq!(rays, reference.1, "{accel:?}: a different number of rays");
+            assert!(pixels == reference.0, "{accel:?}: a different image");
+        }
+    });
 }
 
 #[test]

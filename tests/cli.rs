@@ -1,11 +1,16 @@
 //! The `raypool` command: good runs write complete files, bad input exits 2 with one line
 //! and leaves no file behind.
 
+mod deadline;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use deadline::output_within;
+
 fn raypool(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(dir).output().expect("raypool runs")
+    let what = format!("`raypool {}` to exit", args.first().unwrap_or(&""));
+    output_within(Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(dir), what)
 }
 
 fn scratch(name: &str) -> PathBuf {

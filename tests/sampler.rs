@@ -3,9 +3,12 @@
 //! per 4-D set, a working fallback past a use's dimensions and past the sequence's 2^16
 //! samples, and part files that refuse to mix samplers.
 
+mod deadline;
+
 use std::process::Command;
 use std::sync::Arc;
 
+use deadline::{output_within, within};
 use raypool::measure::convergence::{Reference, log_log_fit, timed_render};
 use raypool::scenes::builtin::builtin_scene;
 use raypool::schedule::modes::render;
@@ -20,59 +23,66 @@ fn sobol(settings: RenderSettings) -> RenderSettings {
 
 #[test]
 fn sobol_images_are_identical_under_every_mode_and_thread_count() {
-    let scene = builtin_scene("final", 2026).unwrap().to_scene();
-    let settings =
-        sobol(RenderSettings { width: 48, height: 32, spp: 8, max_depth: 20, ..Default::default() });
-    let image = |mode: Schedule, threads: usize| {
-        let frame = Frame::new(
-            RenderJob::new(scene.clone(), settings),
-            RngSource::streams(&settings),
-            threads,
-            7,
-            Arc::new(|_| {}),
-        );
-        render(&Arc::new(frame), &mode).image
-    };
-    let serial = image(Schedule::Serial, 1);
-    for mode in Schedule::ALL {
-        for threads in [2, 3, 7] {
-            assert!(image(mode, threads) == serial, "{mode:?} on {threads} threads");
+    within("the Sobol renders under every mode and thread count to finish", move || {
+        let scene = builtin_scene("final", 2026).unwrap().to_scene();
+        let settings =
+            sobol(RenderSettings { width: 48, height: 32, spp: 8, max_depth: 20, ..Default::default() });
+        let image = |mode: Schedule, threads: usize| {
+            let frame = Frame::new(
+                RenderJob::new(scene.clone(), settings),
+                RngSource::streams(&settings),
+                threads,
+                7,
+                Arc::new(|_| {}),
+            );
+            render(&Arc::new(frame), &mode).image
+        };
+        let serial = image(Schedule::Serial, 1);
+        for mode in Schedule::ALL {
+            for threads in [2, 3, 7] {
+                assert!(image(mode, threads) == serial, "{mode:?} on {threads} threads");
+            }
         }
-    }
-    let independent = {
-        let plain = RenderSettings { sampler: Sampler::Independent, ..settings };
-        let frame = Frame::new(
-            RenderJob::new(scene.clone(), plain),
-            RngSource::streams(&plain),
-            2,
-            7,
-            Arc::new(|_| {}),
-        );
-        render(&Arc::new(frame), &Schedule::Stealing).image
-    };
-    assert!(independent != serial, "the sampler changes the numbers");
+        let independent = {
+            let plain = RenderSettings { sampler: Sampler::Independent, ..settings };
+            let frame = Frame::new(
+                RenderJob::new(scene.clone(), plain),
+                RngSource::streams(&plain),
+                2,
+                7,
+                Arc::new(|_| {}),
+            );
+            render(&Arc::new(frame), &Schedule::Stealing).image
+        };
+        assert!(independent != serial, "the sampler changes the numbers");
+    });
 }
 
 #[test]
 fn sobol_error_keeps_falling_and_beats_independent_sampling() {
-    let scene = builtin_scene("three-spheres", 0).unwrap().to_scene();
-    let base = RenderSettings { width: 48, height: 32, max_depth: 50, seed: 1, ..Default::default() };
-    let reference = Reference::render(&scene, base, 1024, 2); // independent numbers, two seeds
-    let error =
-        |settings: RenderSettings| reference.error_of(&timed_render(scene.clone(), settings, 2).0.image);
-    let points: Vec<(f64, f64)> = [1, 2, 4, 8, 16, 32, 64]
-        .iter()
-        .map(|&spp| (spp as f64, error(sobol(RenderSettings { spp, ..base }))))
-        .collect();
-    let (slope, _) = log_log_fit(&points);
-    // A biased sampler's error would stop falling at its bias (the slope flattens towards 0).
-    assert!(
-        slope < -0.5,
-        "Sobol's slope {slope} should be steeper than independent sampling's -0.5: {points:?}"
-    );
-    let independent = error(RenderSettings { spp: 64, ..base });
-    let low_discrepancy = points.last().unwrap().1;
-    assert!(low_discrepancy < independent, "at 64 spp: Sobol {low_discrepancy}, independent {independent}");
+    within("the reference and the Sobol renders of three-spheres to finish", move || {
+        let scene = builtin_scene("three-spheres", 0).unwrap().to_scene();
+        let base = RenderSettings { width: 48, height: 32, max_depth: 50, seed: 1, ..Default::default() };
+        let reference = Reference::render(&scene, base, 1024, 2); // independent numbers, two seeds
+        let error =
+            |settings: RenderSettings| reference.error_of(&timed_render(scene.clone(), settings, 2).0.image);
+        let points: Vec<(f64, f64)> = [1, 2, 4, 8, 16, 32, 64]
+            .iter()
+            .map(|&spp| (spp as f64, error(sobol(RenderSettings { spp, ..base }))))
+            .collect();
+        let (slope, _) = log_log_fit(&points);
+        // A biased sampler's error would stop falling at its bias (the slope flattens towards 0).
+        assert!(
+            slope < -0.5,
+            "Sobol's slope {slope} should be steeper than independent sampling's -0.5: {points:?}"
+        );
+        let independent = error(RenderSettings { spp: 64, ..base });
+        let low_discrepancy = points.last().unwrap().1;
+        assert!(
+            low_discrepancy < independent,
+            "at 64 spp: Sobol {low_discrepancy}, independent {independent}"
+        );
+    });
 }
 
 #[test]
@@ -161,7 +171,8 @@ fn the_command_line_renders_with_sobol_and_parts_do_not_mix_samplers() {
     let dir = std::env::temp_dir().join(format!("raypool-sampler-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let raypool = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(&dir).output().unwrap()
+        let what = format!("`raypool {}` to exit", args[0]);
+        output_within(Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(&dir), what)
     };
     let small = ["render", "--scene", "paper1", "--width", "32", "--spp", "4", "--depth", "6"];
     for (sampler, shard) in [("sobol", "0/2"), ("independent", "1/2")] {

@@ -1,8 +1,11 @@
 //! The scaling model (`raypool simulate`): each scheduler's rule replayed on known costs, and
 //! the command's table and report.
 
+mod deadline;
+
 use std::process::Command;
 
+use deadline::output_within;
 use raypool::Schedule;
 use raypool::measure::scaling::{Costs, predict, threads_to_reach};
 
@@ -97,7 +100,8 @@ fn simulate_prints_every_mode_and_writes_its_report() {
         "--report",
         report,
     ];
-    let out = Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).output().unwrap();
+    let out =
+        output_within(Command::new(env!("CARGO_BIN_EXE_raypool")).args(args), "`raypool simulate` to exit");
     let table = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     for mode in ["static", "interleaved", "pool-rows", "pool", "steal"] {
@@ -113,8 +117,10 @@ fn simulate_prints_every_mode_and_writes_its_report() {
     assert_eq!(csv.lines().count(), 1 + 5 * 4, "a row per mode and thread count");
     assert!(image::open(dir.join("scaling.png")).is_ok());
 
-    let bad =
-        Command::new(env!("CARGO_BIN_EXE_raypool")).args(["simulate", "--threads", "0,2"]).output().unwrap();
+    let bad = output_within(
+        Command::new(env!("CARGO_BIN_EXE_raypool")).args(["simulate", "--threads", "0,2"]),
+        "`raypool simulate --threads 0,2` to exit",
+    );
     assert_eq!(bad.status.code(), Some(2));
     assert_eq!(String::from_utf8_lossy(&bad.stderr).lines().count(), 1);
 }

@@ -2,8 +2,12 @@
 //! byte for byte, whatever N, tile size and scheduler; a missing, duplicated, foreign,
 //! truncated or corrupt part is one line naming it, exit code 2, and no image.
 
+mod deadline;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+
+use deadline::output_within;
 
 use raypool::files::image::Image;
 use raypool::files::part::{Part, PartSettings, merge};
@@ -11,7 +15,8 @@ use raypool::tracer::real::{Real, Vec3};
 use raypool::{RenderSettings, Shard, Tile};
 
 fn raypool(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(dir).output().expect("raypool runs")
+    let what = format!("`raypool {}` to exit", args.first().unwrap_or(&""));
+    output_within(Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(dir), what)
 }
 
 fn scratch(name: &str) -> PathBuf {

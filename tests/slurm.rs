@@ -6,16 +6,21 @@
 //! Needs root and Debian's `slurm-wlm` and `munge`. Without them the test says so and skips;
 //! under `.ci/run` (which installs them and sets `RAYPOOL_CI=1`) it fails instead.
 
+mod deadline;
+
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
+use deadline::output_within;
+
 const REPO: &str = env!("CARGO_MANIFEST_DIR");
 
 fn run(program: &str, args: &[&str], env: &[(&str, &str)]) -> Output {
-    let out = Command::new(program).args(args).envs(env.iter().copied()).output();
-    out.unwrap_or_else(|e| panic!("{program}: {e}"))
+    let name = Path::new(program).file_name().map_or(program.into(), |n| n.to_string_lossy());
+    let what = format!("`{name} {}` to exit", args.first().unwrap_or(&""));
+    output_within(Command::new(program).args(args).envs(env.iter().copied()), what)
 }
 
 fn text(out: &Output) -> String {

@@ -3,6 +3,9 @@
 //! their known answers are in `raypool::measure::stress`; here raypool's robust method must pass all
 //! of them. (`cargo bench --bench stability` shows how the book's method fares.)
 
+mod deadline;
+
+use deadline::within;
 use glam::DVec3;
 use raypool::measure::stress::{StressCase, cases};
 use raypool::scenes::builtin::builtin_scene;
@@ -36,54 +39,68 @@ fn assert_furnace(name: &str) {
 
 #[test]
 fn furnace_holds_from_a_millimetre_to_a_kilometre_and_far_from_the_origin() {
-    for name in
-        ["furnace, unit", "furnace, scaled by 1e-3", "furnace, scaled by 1e3", "furnace, translated 1e4"]
-    {
-        assert_furnace(name);
-    }
+    within("the renders of the four furnace cases to finish", move || {
+        for name in
+            ["furnace, unit", "furnace, scaled by 1e-3", "furnace, scaled by 1e3", "furnace, translated 1e4"]
+        {
+            assert_furnace(name);
+        }
+    });
 }
 
 #[test]
 fn grazing_rays_along_the_silhouette_stay_between_sphere_and_sky() {
-    assert_furnace("grazing rays");
+    within("the grazing-rays render to finish", move || {
+        assert_furnace("grazing rays");
+    });
 }
 
 #[test]
 fn huge_ground_spheres_show_no_acne() {
-    for name in ["ground sphere of radius 1e4", "ground sphere of radius 1e5"] {
-        let o = assert_exact(&case(name));
-        assert!(o.at_floor > 0, "{name}: the ground must be in view: {o:?}");
-    }
+    within("the renders of the huge ground spheres to finish", move || {
+        for name in ["ground sphere of radius 1e4", "ground sphere of radius 1e5"] {
+            let o = assert_exact(&case(name));
+            assert!(o.at_floor > 0, "{name}: the ground must be in view: {o:?}");
+        }
+    });
 }
 
 #[test]
 fn clear_glass_under_a_white_sky_renders_white() {
-    for name in ["glass: solid", "glass: hollow", "glass inside glass", "glass of ior 1"] {
-        assert_exact(&case(name));
-    }
+    within("the renders of the glass cases to finish", move || {
+        for name in ["glass: solid", "glass: hollow", "glass inside glass", "glass of ior 1"] {
+            assert_exact(&case(name));
+        }
+    });
 }
 
 #[test]
 fn a_camera_exactly_on_a_surface_sees_past_it() {
-    assert_exact(&case("ray origins exactly on a surface"));
+    within("the render from a camera on a surface to finish", move || {
+        assert_exact(&case("ray origins exactly on a surface"));
+    });
 }
 
 #[test]
 fn degenerate_materials_stay_finite() {
-    for c in cases().iter().filter(|c| c.name.starts_with("degenerate")) {
-        assert_exact(c);
-    }
+    within("the renders of the degenerate materials to finish", move || {
+        for c in cases().iter().filter(|c| c.name.starts_with("degenerate")) {
+            assert_exact(c);
+        }
+    });
 }
 
 #[test]
 fn the_textbook_method_fails_where_raypool_does_not() {
-    // The comparison is only worth showing if it shows something: in f32 the book's fixed
-    // t_min = 0.001 and textbook quadratic lose energy on the huge ground sphere.
-    if cfg!(feature = "f64") {
-        return; // f64 rescues much of the textbook method; the table shows by how much.
-    }
-    let o = case("ground sphere of radius 1e4").run(Intersection::Textbook);
-    assert!(o.dark > 0 || o.non_finite > 0, "the textbook method passed: {o:?}");
+    within("the textbook method's render of the ground sphere to finish", move || {
+        // The comparison is only worth showing if it shows something: in f32 the book's fixed
+        // t_min = 0.001 and textbook quadratic lose energy on the huge ground sphere.
+        if cfg!(feature = "f64") {
+            return; // f64 rescues much of the textbook method; the table shows by how much.
+        }
+        let o = case("ground sphere of radius 1e4").run(Intersection::Textbook);
+        assert!(o.dark > 0 || o.non_finite > 0, "the textbook method passed: {o:?}");
+    });
 }
 
 /// Sample `s` of a pixel drawn from stream `first + s`: lets one pixel's samples be averaged in

@@ -4,6 +4,7 @@
 //! behind, and Ctrl-C.
 
 mod common;
+mod deadline;
 
 use std::io::{BufRead, BufReader, Write};
 use std::net::TcpStream;
@@ -11,6 +12,7 @@ use std::process::Command;
 use std::time::{Duration, Instant};
 
 use common::viewer::{Viewer, until_done};
+use deadline::output_within;
 use serde_json::Value;
 
 const MINUTE: Duration = Duration::from_secs(60);
@@ -23,11 +25,18 @@ fn cli_render(viewer: &Viewer, flags: &[&str]) -> Vec<u8> {
     assert_eq!(status, 200);
     let (scene_path, image_path) = (dir.join("scene.toml"), dir.join("cli.pfm"));
     std::fs::write(&scene_path, scene).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_raypool"))
-        .args(["render", "--scene-file", scene_path.to_str().unwrap(), "--out", image_path.to_str().unwrap()])
-        .args(flags)
-        .output()
-        .unwrap();
+    let out = output_within(
+        Command::new(env!("CARGO_BIN_EXE_raypool"))
+            .args([
+                "render",
+                "--scene-file",
+                scene_path.to_str().unwrap(),
+                "--out",
+                image_path.to_str().unwrap(),
+            ])
+            .args(flags),
+        "`raypool render` of the viewer's scene to exit",
+    );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     std::fs::read(image_path).unwrap()
 }
@@ -216,7 +225,7 @@ fn ctrl_c_stops_the_server_cleanly_and_bind_warns() {
     let mut viewer = Viewer::start(&["--width", "64", "--spp", "100000", "--bind", "127.0.0.1"]);
     std::thread::sleep(Duration::from_millis(300)); // mid-render
     let pid = viewer.child.id().to_string();
-    assert!(Command::new("kill").args(["-INT", &pid]).status().unwrap().success());
+    assert!(output_within(Command::new("kill").args(["-INT", &pid]), "`kill -INT` to exit").status.success());
     let start = Instant::now();
     let status = loop {
         if let Some(status) = viewer.child.try_wait().unwrap() {
@@ -239,7 +248,8 @@ fn bad_command_lines_exit_2() {
         (vec!["view", "--bind", "not-an-address"], "--bind"),
         (vec!["view", "--target-error", "0.1"], "not adaptive sampling"),
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_raypool")).args(&args).output().unwrap();
+        let out =
+            output_within(Command::new(env!("CARGO_BIN_EXE_raypool")).args(&args), "`raypool view` to exit");
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
         assert!(stderr.contains(expected) && stderr.lines().count() == 1, "{args:?}: {stderr}");

@@ -18,10 +18,18 @@ use serde_json::{Value, json};
 use tungstenite::stream::MaybeTlsStream;
 use tungstenite::{Message, WebSocket};
 
+// Its own copy of the deadline helper, as `benches/view.rs` includes this folder without one;
+// the tests that include it (`tests/view.rs`, `tests/browser.rs`) load the same file again.
+#[allow(clippy::duplicate_mod)]
+#[path = "../deadline/mod.rs"]
+mod deadline;
+
 /// The Chromium binary, if one is installed.
 pub fn chromium() -> Option<PathBuf> {
     ["chromium", "chromium-browser", "google-chrome"].iter().find_map(|name| {
-        let out = Command::new("sh").args(["-c", &format!("command -v {name}")]).output().ok()?;
+        let lookup = format!("command -v {name}");
+        let out =
+            deadline::output_within(Command::new("sh").args(["-c", &lookup]), format!("`{lookup}` to exit"));
         out.status.success().then(|| PathBuf::from(String::from_utf8_lossy(&out.stdout).trim()))
     })
 }

@@ -27,8 +27,19 @@ impl Viewer {
             .stderr(Stdio::piped())
             .spawn()
             .expect("raypool view starts");
-        let mut first = String::new();
-        BufReader::new(child.stdout.take().unwrap()).read_line(&mut first).unwrap();
+        // Read on a thread of its own, so a server that never prints fails the test, not hangs it.
+        let stdout = child.stdout.take().unwrap();
+        let (line, first_line) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let mut first = String::new();
+            let _ = BufReader::new(stdout).read_line(&mut first);
+            let _ = line.send(first);
+        });
+        let Ok(first) = first_line.recv_timeout(Duration::from_secs(60)) else {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("waited 60 s for `raypool view {args:?}` to print its address: it never happened");
+        };
         assert!(first.starts_with("http://127.0.0.1:") && first.ends_with("/\n"), "first line: {first:?}");
         let config = ureq::Agent::config_builder()
             .http_status_as_error(false)
