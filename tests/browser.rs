@@ -110,4 +110,20 @@ fn the_page_renders_live_with_a_lane_per_worker_and_orbits() {
     assert_eq!(display, json!("none"));
     page.eval("document.getElementById('custom').value = '[camera'; document.getElementById('use-custom').click(); true");
     page.wait_for("document.getElementById('status').textContent.includes('pasted scene:1:')", MINUTE);
+
+    // A second page, opened after the render ended, shows what the first one showed: the image,
+    // the tiles' outlines and one lane per worker with the last pass's bars, the pass figures.
+    let first = page.eval("JSON.stringify([document.body.dataset.lanes, document.body.dataset.spp])");
+    let mut late = Browser::open(&binary, &viewer.url, (1100, 720));
+    late.wait_for("document.body.dataset.spp === '24' && +document.body.dataset.tiles > 0", MINUTE);
+    let data: serde_json::Value =
+        serde_json::from_str(late.eval("JSON.stringify(document.body.dataset)").as_str().unwrap()).unwrap();
+    assert_eq!(json!([data["lanes"], data["spp"]]).to_string(), first.as_str().unwrap(), "late page: {data}");
+    assert!(late.eval("document.getElementById('stats').textContent").as_str().unwrap().contains("Mrays/s"));
+    let outlined = late.eval(
+        "(() => { const c = document.getElementById('outlines'); \
+         const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data; \
+         let n = 0; for (let i = 3; i < d.length; i += 4) if (d[i] > 0) n++; return n; })()",
+    );
+    assert!(outlined.as_u64().unwrap() > 1000, "the late page outlines the tiles: {outlined}");
 }

@@ -153,7 +153,7 @@ fn bad_requests_get_4xx_and_one_line_and_the_server_goes_on() {
     half.write_all(b"POST /render?width=40 HTTP/1.1\r\nContent-Length: 100\r\n\r\nabc").unwrap();
     drop(half);
     let mut stream = TcpStream::connect(&address).unwrap();
-    stream.write_all(b"GET /events HTTP/1.1\r\nHost: x\r\n\r\n").unwrap();
+    stream.write_all(format!("GET /events HTTP/1.1\r\nHost: {address}\r\n\r\n").as_bytes()).unwrap();
     let mut first = String::new();
     BufReader::new(&stream).read_line(&mut first).unwrap();
     assert!(first.starts_with("HTTP/1.1 200"), "{first}");
@@ -255,4 +255,98 @@ fn bad_command_lines_exit_2() {
         assert!(stderr.contains(expected) && stderr.lines().count() == 1, "{args:?}: {stderr}");
         assert!(out.stdout.is_empty(), "no address printed: {args:?}");
     }
+}
+
+#[test]
+fn foreign_pages_and_hosts_get_403_and_the_page_own_origin_works() {
+    let viewer = Viewer::start(&["--width", "32", "--spp", "2"]);
+    let address = viewer.url.trim_start_matches("http://").trim_end_matches('/').to_string();
+    let port = address.rsplit_once(':').unwrap().1.to_string();
+    let ask = |request: String| {
+        let mut stream = TcpStream::connect(&address).unwrap();
+        stream.set_read_timeout(Some(MINUTE)).unwrap();
+        stream.write_all(request.as_bytes()).unwrap();
+        let mut answer = String::new();
+        let _ = std::io::Read::read_to_string(&mut stream, &mut answer);
+        answer
+    };
+    let post = |origin: &str| {
+        ask(format!(
+            "POST /render?width=16 HTTP/1.1\r\nHost: {address}\r\nOrigin: {origin}\r\nContent-Length: 0\r\n\r\n"
+        ))
+    };
+    for host in ["evil.example", &format!("evil.example:{port}"), "127.0.0.1:1", ""] {
+        let answer = ask(format!("GET /state HTTP/1.1\r\nHost: {host}\r\n\r\n"));
+        assert!(answer.starts_with("HTTP/1.1 403"), "Host {host:?}: {answer}");
+        assert!(answer.contains("is not this viewer's address"), "{answer}");
+    }
+    for origin in
+        ["https://evil.example", "http://127.0.0.1.evil.example", "null", &format!("http://localhost:{}", 1)]
+    {
+        let answer = post(origin);
+        assert!(answer.starts_with("HTTP/1.1 403"), "Origin {origin:?}: {answer}");
+    }
+    for host in [format!("127.0.0.1:{port}"), format!("localhost:{port}"), format!("[::1]:{port}")] {
+        let answer = ask(format!("GET /state HTTP/1.1\r\nHost: {host}\r\n\r\n"));
+        assert!(answer.starts_with("HTTP/1.1 200"), "Host {host}: {answer}");
+        let answer = post(&format!("http://{host}"));
+        assert!(answer.starts_with("HTTP/1.1 202"), "Origin http://{host}: {answer}");
+    }
+}
+
+#[test]
+fn a_page_opened_late_is_told_what_a_page_open_from_the_start_saw() {
+    // 48 × 32 in 8-pixel tiles: 24 tiles a pass, on 2 threads.
+    let viewer =
+        Viewer::start(&["--width", "48", "--height", "32", "--spp", "4", "--threads", "2", "--tile", "8"]);
+    let live = until_done(&mut viewer.events(), 1);
+    let late = until_done(&mut viewer.events(), 1);
+    let kinds =
+        |events: &[Value]| events.iter().map(|e| e["type"].as_str().unwrap().to_string()).collect::<Vec<_>>();
+    let late_kinds = kinds(&late);
+    assert_eq!(late_kinds.first().map(String::as_str), Some("start"), "{late_kinds:?}");
+    assert_eq!(late_kinds[1], "frame", "{late_kinds:?}");
+    let tiles = |events: &[Value], pass: u64| -> Vec<(u64, u64, u64)> {
+        let mut t: Vec<_> = events
+            .iter()
+            .filter(|e| e["type"] == "tile" && e["pass"] == pass)
+            .map(|e| (e["x"].as_u64().unwrap(), e["y"].as_u64().unwrap(), e["worker"].as_u64().unwrap()))
+            .collect();
+        t.sort();
+        t
+    };
+    let last_pass =
+        live.iter().filter(|e| e["type"] == "pass").map(|e| e["pass"].as_u64().unwrap()).max().unwrap();
+    let replayed = tiles(&late, last_pass);
+    assert_eq!(replayed.len(), 24, "every tile of the last pass, with its worker: {late_kinds:?}");
+    assert_eq!(replayed, tiles(&live, last_pass), "the same tiles, on the same workers' lanes");
+    assert_eq!(late.iter().filter(|e| e["type"] == "pass").count(), 1, "the latest pass's figures");
+    assert_eq!(late_kinds.last().map(String::as_str), Some("done"));
+}
+
+#[test]
+fn hostile_traffic_does_not_stop_the_server() {
+    let viewer = Viewer::start(&["--scene", "final", "--width", "96", "--spp", "100000", "--threads", "2"]);
+    let seconds = std::env::var("RAYPOOL_HOSTILE_SECONDS").ok().and_then(|s| s.parse().ok()).unwrap_or(20);
+    let report = common::hostile::run(&viewer, Duration::from_secs(seconds), 7);
+    let sent: u64 = report.sent.values().sum();
+    assert!(sent > 100, "only {sent} hostile requests in {seconds} s: {report:?}");
+    assert_eq!(report.failed_probes, 0, "GET /state failed during the traffic: {report:?}");
+    assert!(report.slowest_probe < Duration::from_secs(5), "a probe took {:?}", report.slowest_probe);
+    assert_eq!(report.streams_with_tiles, report.streams, "every event stream received tiles: {report:?}");
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
+    // Connections (at most 256), the largest render's workers (4 per core), a few of its own.
+    assert!(report.peak_threads <= 256 + 4 * cores + 8, "threads: {report:?}");
+    assert!(report.peak_rss_kib < 1 << 20, "peak memory {} MiB", report.peak_rss_kib >> 10);
+    let slowest = report.cancels.iter().map(|(_, t)| *t).max().unwrap();
+    assert!(slowest < Duration::from_secs(2), "a cancel took {slowest:?}: {:?}", report.cancels);
+    for (kind, status) in report.answers.keys() {
+        assert!(status != "500", "{kind} got a 500");
+    }
+    // And a render after it all equals the command line's, byte for byte.
+    let (status, body) = viewer.post("/render?scene=final&width=40&spp=2&threads=2", b"");
+    assert_eq!(status, 202, "{body}");
+    let generation: u64 = serde_json::from_str::<Value>(&body).unwrap()["gen"].as_u64().unwrap();
+    let image = served_image(&viewer, generation);
+    assert!(image == cli_render(&viewer, &["--width", "40", "--spp", "2"]), "the image after the traffic");
 }

@@ -19,6 +19,20 @@ use crate::view::session::Config;
 /// Largest pasted scene, bytes.
 pub const MAX_PASTED_SCENE: usize = 1 << 20;
 
+/// The largest image the viewer renders: 4 Mpixels (2048 × 2048). One pass keeps running sums
+/// of 24 bytes a pixel and the page receives every pixel; `raypool render` has no such limit.
+pub const MAX_PIXELS: u64 = 1 << 22;
+
+/// The widest tile the viewer renders: a tile job of one pass then holds at most 4,096
+/// samples (see `session.rs`), so a new request cancels the running render within one job.
+pub const MAX_TILE: u32 = 64;
+
+/// The most worker threads a viewer render may use: four per core this machine offers (past
+/// one per core a render only waits; the margin shows it). Requests for more get a 400.
+pub fn max_threads() -> usize {
+    4 * default_threads()
+}
+
 /// What `raypool view`'s flags parse into, for parsing a request the same way.
 #[derive(Debug, Parser)]
 #[command(name = "view")]
@@ -77,11 +91,33 @@ pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>)
     if settings.adaptive.is_some() {
         return Err(Error::new("the viewer renders progressive passes, not adaptive sampling"));
     }
+    let threads = args.workers.threads.map_or_else(default_threads, |t| t as usize);
+    if threads > max_threads() {
+        return Err(Error::new(format!(
+            "--threads {threads} is more than the viewer's limit of {} (four per core here)",
+            max_threads()
+        )));
+    }
+    let pixels = u64::from(settings.width) * u64::from(settings.height);
+    if pixels > MAX_PIXELS {
+        return Err(Error::new(format!(
+            "{} × {} is more than the viewer's {} Mpixels (2048 × 2048); `raypool render` has no such limit",
+            settings.width,
+            settings.height,
+            MAX_PIXELS >> 20
+        )));
+    }
+    if settings.width > 4096 {
+        return Err(Error::new(format!("--width {} is wider than the viewer's 4096", settings.width)));
+    }
+    if image.tile > MAX_TILE {
+        return Err(Error::new(format!("--tile {} is wider than the viewer's {MAX_TILE}", image.tile)));
+    }
     Ok(Config {
         name,
         job: RenderJob::new(image.accel.apply(scene.to_scene()), settings).into(),
         scene,
-        threads: args.workers.threads.map_or_else(default_threads, |t| t as usize),
+        threads,
         mode: args.workers.mode,
         tile: image.tile,
         shared_rng: args.workers.rng == RngChoice::Shared,

@@ -1,5 +1,5 @@
-//! The HTTP side of the viewer, on `tiny_http`: the page, the event stream, render requests
-//! and the current image.
+//! The HTTP side of the viewer, on [`http`](crate::view::http): the page, the event stream,
+//! render requests and the current image, to the page's own origin only.
 //!
 //! | request | answer |
 //! |---|---|
@@ -10,20 +10,27 @@
 //! | `GET /image.pfm`, `/image.png` | the image after the latest finished pass; header `X-Raypool-Spp` says how many samples |
 //! | `GET /scene.toml` | the running render's scene, camera included |
 //!
-//! Every request is answered on its own short thread (an event stream lives as long as its
+//! Every connection is answered on its own short thread (an event stream lives as long as its
 //! page); rendering never runs on them, only on the session's pool. A bad request gets a 4xx
 //! status and a one-line reason, and the server goes on serving.
+//!
+//! **Same origin only**, as Jupyter's server does. A request whose `Host` is not an address
+//! this server answers on (`127.0.0.1:PORT`, `localhost:PORT`, `[::1]:PORT`, or the `--bind`
+//! address) gets 403: a DNS-rebinding page, whose requests carry its own host name, can read
+//! nothing. A `POST` whose `Origin` is present and is not `http://` + one of those gets 403: a
+//! page on another site cannot start renders on this machine.
 
-use std::io::{Read, Write};
+use std::io::Write;
+use std::net::{IpAddr, Ipv4Addr, Ipv6Addr, SocketAddr, TcpStream};
 use std::sync::Arc;
 use std::time::Duration;
 
 use crossbeam_channel::RecvTimeoutError;
 use serde_json::json;
-use tiny_http::{Header, Method, Request, Response};
 
 use crate::files::output::{Format, encode};
 use crate::scenes::builtin::BUILTINS;
+use crate::view::http::{Request, Response, WRITE_TIME, read_request};
 use crate::view::request::{MAX_PASTED_SCENE, parse};
 use crate::view::session::Session;
 
@@ -33,47 +40,86 @@ const PAGE: &str = include_str!("page.html");
 /// A page's event stream sends a comment this often when idle, so a gone page is noticed.
 const KEEP_ALIVE: Duration = Duration::from_secs(10);
 
-/// Answers `request`.
-pub fn handle(session: &Arc<Session>, mut request: Request) {
-    let url = request.url().to_string();
-    let (path, query) = url.split_once('?').unwrap_or((&url, ""));
-    let answer = match (request.method(), path) {
-        (Method::Get, "/") => ok("text/html; charset=utf-8", PAGE.as_bytes().to_vec()),
-        (Method::Get, "/state") => ok("application/json", state(session).into_bytes()),
-        (Method::Get, "/events") => return stream_events(session, request),
-        (Method::Post, "/render") => render(session, query, &mut request),
-        (Method::Get, "/image.pfm") => image(session, Format::Pfm),
-        (Method::Get, "/image.png") => image(session, Format::Png),
-        (Method::Get, "/scene.toml") => {
-            ok("text/plain; charset=utf-8", session.current().1.scene.to_toml().into_bytes())
+/// The `Host` values this server answers to.
+#[derive(Clone, Debug)]
+pub struct Origins {
+    hosts: Vec<String>,
+}
+
+impl Origins {
+    /// Those of a server listening on `address` (its port, and its IP if not loopback).
+    pub fn of(address: SocketAddr) -> Origins {
+        let port = address.port();
+        let mut hosts: Vec<String> =
+            ["127.0.0.1", "localhost", "[::1]"].iter().map(|h| format!("{h}:{port}")).collect();
+        let ip = address.ip();
+        if !ip.is_loopback() && !ip.is_unspecified() {
+            hosts.push(SocketAddr::new(ip, port).to_string());
         }
-        (_, "/" | "/state" | "/events" | "/render" | "/image.pfm" | "/image.png" | "/scene.toml") => {
-            Err((405, format!("{} is not allowed on {path}", request.method())))
+        if ip == IpAddr::V4(Ipv4Addr::UNSPECIFIED) || ip == IpAddr::V6(Ipv6Addr::UNSPECIFIED) {
+            // Bound to every interface: the machine's own names are not known here, so any
+            // IP literal with this port is accepted (a rebinding page uses a name, not an IP).
+            hosts.push(format!("*:{port}"));
+        }
+        Origins { hosts }
+    }
+
+    fn host_allowed(&self, host: &str) -> bool {
+        let host = host.trim().to_ascii_lowercase();
+        self.hosts.iter().any(|allowed| match allowed.strip_prefix("*:") {
+            Some(port) => host.rsplit_once(':').is_some_and(|(ip, p)| {
+                p == port && ip.trim_start_matches('[').trim_end_matches(']').parse::<IpAddr>().is_ok()
+            }),
+            None => *allowed == host,
+        })
+    }
+
+    /// `Err((403, reason))` for a request from outside the page's own origin.
+    fn check(&self, request: &Request) -> Result<(), (u16, String)> {
+        let host = request.header("host").unwrap_or("");
+        if !self.host_allowed(host) {
+            return Err((403, format!("Host '{host}' is not this viewer's address")));
+        }
+        if let Some(origin) = request.header("origin").filter(|_| request.method != "GET") {
+            let own = origin.strip_prefix("http://").is_some_and(|h| self.host_allowed(h));
+            if !own {
+                return Err((403, format!("requests from the page of '{origin}' are refused")));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Reads and answers one connection.
+pub fn handle(session: &Arc<Session>, origins: &Origins, mut stream: TcpStream) {
+    let request = match read_request(&mut stream, MAX_PASTED_SCENE) {
+        Ok(request) => request,
+        Err(Some((status, reason))) => return Response::text(status, &reason).send(&mut stream),
+        Err(None) => return, // the client left
+    };
+    if let Err((status, reason)) = origins.check(&request) {
+        return Response::text(status, &reason).send(&mut stream);
+    }
+    let path = request.path.as_str();
+    let answer = match (request.method.as_str(), path) {
+        ("GET", "/") => Ok(Response::ok("text/html; charset=utf-8", PAGE.as_bytes().to_vec())),
+        ("GET", "/state") => Ok(Response::ok("application/json", state(session).into_bytes())),
+        ("GET", "/events") => return stream_events(session, stream),
+        ("POST", "/render") => render(session, &request),
+        ("GET", "/image.pfm") => image(session, Format::Pfm),
+        ("GET", "/image.png") => image(session, Format::Png),
+        ("GET", "/scene.toml") => {
+            Ok(Response::ok("text/plain; charset=utf-8", session.current().1.scene.to_toml().into_bytes()))
+        }
+        (method, "/" | "/state" | "/events" | "/render" | "/image.pfm" | "/image.png" | "/scene.toml") => {
+            Err((405, format!("{method} is not allowed on {path}")))
         }
         _ => Err((404, format!("no such page: {path}"))),
     };
-    let response = match answer {
-        Ok(response) => response,
-        Err((status, reason)) => text_response(status, &reason),
-    };
-    let _ = request.respond(response); // a client that left is not an error
+    answer.unwrap_or_else(|(status, reason)| Response::text(status, &reason)).send(&mut stream);
 }
 
-type Answer = Result<Response<std::io::Cursor<Vec<u8>>>, (u16, String)>;
-
-fn ok(content_type: &str, body: Vec<u8>) -> Answer {
-    Ok(Response::from_data(body).with_header(header("Content-Type", content_type)))
-}
-
-fn text_response(status: u16, reason: &str) -> Response<std::io::Cursor<Vec<u8>>> {
-    Response::from_data(format!("{reason}\n").into_bytes())
-        .with_status_code(status)
-        .with_header(header("Content-Type", "text/plain; charset=utf-8"))
-}
-
-fn header(name: &str, value: &str) -> Header {
-    Header::from_bytes(name.as_bytes(), value.as_bytes()).expect("ASCII header")
-}
+type Answer = Result<Response, (u16, String)>;
 
 /// `GET /state`: what the page's controls start from.
 fn state(session: &Session) -> String {
@@ -89,26 +135,15 @@ fn state(session: &Session) -> String {
 }
 
 /// `POST /render`: checks the request, then restarts the render with it.
-fn render(session: &Arc<Session>, query: &str, request: &mut Request) -> Answer {
-    if request.body_length().is_some_and(|n| n > MAX_PASTED_SCENE) {
-        return Err((413, format!("the pasted scene is larger than {} MiB", MAX_PASTED_SCENE >> 20)));
-    }
-    let mut body = Vec::new();
-    request
-        .as_reader()
-        .take(MAX_PASTED_SCENE as u64 + 1)
-        .read_to_end(&mut body)
-        .map_err(|e| (400, format!("cannot read the request body: {e}")))?;
-    if body.len() > MAX_PASTED_SCENE {
-        return Err((413, format!("the pasted scene is larger than {} MiB", MAX_PASTED_SCENE >> 20)));
-    }
-    let body =
-        String::from_utf8(body).map_err(|_| (400, "the pasted scene is not UTF-8 text".to_string()))?;
-    let config = parse(query, &body).map_err(|e| (400, e.to_string()))?;
+fn render(session: &Arc<Session>, request: &Request) -> Answer {
+    let body = std::str::from_utf8(&request.body)
+        .map_err(|_| (400, "the pasted scene is not UTF-8 text".to_string()))?;
+    let config = parse(&request.query, body).map_err(|e| (400, e.to_string()))?;
     let generation = session.restart(config);
-    Ok(Response::from_data(json!({ "gen": generation }).to_string().into_bytes())
-        .with_status_code(202)
-        .with_header(header("Content-Type", "application/json")))
+    Ok(Response {
+        status: 202,
+        ..Response::ok("application/json", json!({ "gen": generation }).to_string().into_bytes())
+    })
 }
 
 /// `GET /image.*`: the latest finished pass.
@@ -118,16 +153,16 @@ fn image(session: &Session, format: Format) -> Answer {
     let mut bytes = Vec::new();
     encode(&snapshot.image, format, &mut bytes).map_err(|e| (500, e))?;
     let content_type = if format == Format::Png { "image/png" } else { "application/octet-stream" };
-    Ok(Response::from_data(bytes)
-        .with_header(header("Content-Type", content_type))
-        .with_header(header("X-Raypool-Spp", &snapshot.spp.to_string()))
-        .with_header(header("X-Raypool-Gen", &snapshot.generation.to_string())))
+    Ok(Response::ok(content_type, bytes)
+        .with("X-Raypool-Spp", snapshot.spp)
+        .with("X-Raypool-Gen", snapshot.generation))
 }
 
-/// `GET /events`: server-sent events until the page goes or the server stops.
-fn stream_events(session: &Session, request: Request) {
+/// `GET /events`: server-sent events until the page goes or the server stops. A page that
+/// stops reading is dropped after one write has blocked for [`WRITE_TIME`].
+fn stream_events(session: &Session, mut out: TcpStream) {
     let events = session.subscribe();
-    let mut out = request.into_writer();
+    let _ = out.set_write_timeout(Some(WRITE_TIME));
     let head = "HTTP/1.1 200 OK\r\nContent-Type: text/event-stream\r\nCache-Control: no-cache\r\nConnection: close\r\n\r\n";
     if out.write_all(head.as_bytes()).and_then(|()| out.flush()).is_err() {
         return;

@@ -32,10 +32,13 @@ use crate::tracer::sampler::SharedRng;
 /// Events a page may fall behind by before it is dropped.
 const QUEUE: usize = 8192;
 
-/// The most samples per pixel one pass adds. Passes double (1, 1, 2, 4, 8, 16) and then stay
-/// at this size, so a tile job stays short (about 2 ms for a 16 × 16 tile of `final` here)
-/// and a cancel, which each job checks before its tile, takes effect within that.
-const MAX_PASS_SAMPLES: u32 = 16;
+/// The most samples one job may take: a 16 × 16 tile at 16 samples per pixel (about 2 ms for
+/// `final` here). Passes double (1, 1, 2, 4, 8, 16, …) and then stay at the size that keeps a
+/// job (a tile, or a row in the row modes) within this, so a cancel, which each job checks
+/// before it starts, takes effect within one short job whatever the tile size or width (the
+/// viewer's tiles are at most [`MAX_TILE`](crate::view::request::MAX_TILE) wide and its rows
+/// at most 4,096 pixels: one sample per pixel at most fits).
+const MAX_JOB_SAMPLES: u32 = 16 * 16 * 16;
 
 /// Everything one render needs, checked: what a request or the command line asked for.
 #[derive(Clone, Debug)]
@@ -91,6 +94,20 @@ struct Pages {
     start: Option<Arc<str>>,
     last_pass: Option<Arc<str>>,
     done: Option<Arc<str>>,
+    /// The `tile` events of the latest pass that has any (the running one, or the last one
+    /// once the render is done), and that pass's number: a late page draws their outlines and
+    /// the timeline's bars from them.
+    tiles: Vec<Arc<str>>,
+    tiles_pass: u32,
+}
+
+/// What an event is, for what a late page must be told.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Start,
+    Tile { pass: u32 },
+    Pass,
+    Done,
 }
 
 impl Session {
@@ -161,14 +178,19 @@ impl Session {
     }
 
     /// A new page's event stream. It starts with what the page missed of the running render:
-    /// its `start`, a `frame` with the image of its latest pass, that `pass`, and `done`.
+    /// its `start`, a `frame` with the image of its latest pass, the `tile`s of the latest pass
+    /// that has any (outlines, timeline bars and their pixels), that `pass`, and `done`; so a
+    /// page opened late shows what a page open from the start shows.
     pub fn subscribe(&self) -> Receiver<Arc<str>> {
         let (tx, rx) = crossbeam_channel::bounded(QUEUE);
         let mut pages = self.pages.lock(); // no event goes out between the replay and the joining
         let frame = pages.last_pass.as_ref().and_then(|_| self.latest()).map(|s| frame_event(&s));
-        let replay =
-            [pages.start.clone(), frame.map(Into::into), pages.last_pass.clone(), pages.done.clone()];
-        for event in replay.into_iter().flatten() {
+        let replay = [pages.start.clone(), frame.map(Into::into)]
+            .into_iter()
+            .flatten()
+            .chain(pages.tiles.iter().cloned())
+            .chain([pages.last_pass.clone(), pages.done.clone()].into_iter().flatten());
+        for event in replay {
             let _ = tx.try_send(event);
         }
         pages.senders.push(tx);
@@ -177,21 +199,29 @@ impl Session {
 
     /// Sends `event` (of type `kind`) to every page; drops pages that are gone or too far
     /// behind, and remembers what a late page must be told.
-    fn broadcast(&self, kind: &str, event: String) {
+    fn broadcast(&self, kind: Kind, event: String) {
         let event: Arc<str> = event.into();
         let mut pages = self.pages.lock();
         match kind {
-            "start" => (pages.start, pages.last_pass, pages.done) = (Some(Arc::clone(&event)), None, None),
-            "pass" => pages.last_pass = Some(Arc::clone(&event)),
-            "done" => pages.done = Some(Arc::clone(&event)),
-            _ => {}
+            Kind::Start => {
+                (pages.start, pages.last_pass, pages.done) = (Some(Arc::clone(&event)), None, None);
+                pages.tiles.clear();
+            }
+            Kind::Tile { pass } => {
+                if pass != pages.tiles_pass {
+                    (pages.tiles_pass, pages.tiles) = (pass, Vec::new());
+                }
+                pages.tiles.push(Arc::clone(&event));
+            }
+            Kind::Pass => pages.last_pass = Some(Arc::clone(&event)),
+            Kind::Done => pages.done = Some(Arc::clone(&event)),
         }
         pages.senders.retain(|page| page.try_send(Arc::clone(&event)).is_ok());
     }
 
     /// The render thread: passes until `spp` samples or a cancel.
     fn render_passes(self: &Arc<Session>, generation: u64, config: &Config, cancel: &Cancel) {
-        self.broadcast("start", start_event(generation, config));
+        self.broadcast(Kind::Start, start_event(generation, config));
         let settings = config.job.settings;
         let sums = Sums::default();
         let rng = if config.shared_rng {
@@ -202,14 +232,17 @@ impl Session {
         let started = Instant::now();
         let (mut done, mut pass) = (0, 0);
         while done < settings.spp && !cancel.is_cancelled() {
-            let more = if done == 0 { 1 } else { done.min(MAX_PASS_SAMPLES).min(settings.spp - done) };
+            // A job renders a tile, or a whole row in the row modes.
+            let job_pixels = (config.tile * config.tile).max(settings.width);
+            let pass_most = (MAX_JOB_SAMPLES / job_pixels).max(1);
+            let more = if done == 0 { 1 } else { done.min(pass_most).min(settings.spp - done) };
             pass += 1;
             let lanes: Arc<Mutex<Vec<ThreadId>>> = Arc::default();
             let hook = {
                 let (session, lanes) = (Arc::clone(self), Arc::clone(&lanes));
                 Arc::new(move |out: &TileOutput| {
                     if let Some(event) = tile_event(generation, pass, done + more, out, &lanes) {
-                        session.broadcast("tile", event);
+                        session.broadcast(Kind::Tile { pass }, event);
                     }
                 })
             };
@@ -233,7 +266,7 @@ impl Session {
             let (rays, imbalance) = (rendered.rays, rendered.imbalance());
             *self.latest.lock() = Some(Snapshot { generation, spp: done, image: rendered.image });
             self.broadcast(
-                "pass",
+                Kind::Pass,
                 json!({
                     "type": "pass", "gen": generation, "pass": pass, "spp": done, "seconds": seconds,
                     "elapsed": started.elapsed().as_secs_f64(), "rays": rays,
@@ -243,7 +276,7 @@ impl Session {
             );
         }
         if !cancel.is_cancelled() {
-            self.broadcast("done", json!({ "type": "done", "gen": generation, "spp": done }).to_string());
+            self.broadcast(Kind::Done, json!({ "type": "done", "gen": generation, "spp": done }).to_string());
         }
     }
 }

@@ -1,5 +1,7 @@
-//! Helpers shared by the viewer's tests (and `benches/view.rs`): a running `raypool view`
-//! server, and headless Chromium driven over the DevTools protocol.
+//! Helpers shared by the viewer's tests (and `benches/view.rs`, `benches/view_hostile.rs`): a
+//! running `raypool view` server, headless Chromium driven over the DevTools protocol, and
+//! hostile traffic.
 
 pub mod browser;
+pub mod hostile;
 pub mod viewer;

@@ -1,0 +1,70 @@
+//! `cargo bench --bench view_hostile`: the viewer under hostile traffic for 60 s (loopback only),
+//! then the worst cancels. Writes `results/view-hostile.md`: requests sent by kind, answers by
+//! status, the `/state` probes, peak threads and memory, and each cancel's `POST` → 202 time.
+//! `tests/view.rs` runs the same traffic for 20 s and asserts on it.
+
+#[path = "../tests/common/mod.rs"]
+mod common;
+
+use std::fmt::Write as _;
+use std::time::Duration;
+
+use common::hostile;
+use common::viewer::Viewer;
+use raypool::measure::machine::Machine;
+
+fn main() {
+    let seconds = 60;
+    let viewer = Viewer::start(&["--scene", "final", "--width", "400", "--spp", "100000", "--threads", "2"]);
+    let report = hostile::run(&viewer, Duration::from_secs(seconds), 7);
+    let mut md = String::new();
+    let _ = writeln!(md, "# The viewer under hostile traffic\n");
+    let _ = writeln!(
+        md,
+        "Command: `cargo bench --bench view_hostile` · {} · `raypool view --scene final --width 400 --spp 100000 --threads 2` · traffic for {:.1} s, loopback only (`tests/common/hostile.rs`)\n",
+        Machine::current().describe(),
+        report.ran.as_secs_f64()
+    );
+    let _ = writeln!(md, "## Requests sent, and the answers\n");
+    let _ = writeln!(md, "| kind | sent | answers (status × count) |\n|---|---:|---|");
+    for (kind, sent) in &report.sent {
+        let answers: Vec<String> = report
+            .answers
+            .iter()
+            .filter(|((k, _), _)| k == kind)
+            .map(|((_, status), n)| format!("{status} × {n}"))
+            .collect();
+        let _ = writeln!(md, "| {kind} | {sent} | {} |", answers.join(", "));
+    }
+    let _ = writeln!(
+        md,
+        "\n`closed`: the server closed the connection without an answer (the client had already left, or sent nothing it could answer). \
+         25 event-stream clients read throughout: {} of {} received tiles.\n",
+        report.streams_with_tiles, report.streams
+    );
+    let _ = writeln!(md, "## The server meanwhile\n");
+    let _ = writeln!(
+        md,
+        "| `GET /state` probes | failed | slowest | peak threads | peak resident memory |\n|---:|---:|---:|---:|---:|\n| {} | {} | {:.1} ms | {} | {} MiB |\n",
+        report.probes,
+        report.failed_probes,
+        report.slowest_probe.as_secs_f64() * 1e3,
+        report.peak_threads,
+        report.peak_rss_kib >> 10
+    );
+    let _ = writeln!(md, "## The worst cancels\n");
+    let _ = writeln!(
+        md,
+        "Each request restarts the render with the largest one the viewer accepts (2048 × 2048, 10⁶ spp, 4 threads per core, 64-pixel tiles), 300 ms after the one before; \
+         the time is from sending the `POST` to its 202, which the server sends once the running render's jobs have stopped and its thread has been joined.\n"
+    );
+    let _ = writeln!(md, "| request | POST → 202 |\n|---|---:|");
+    for (query, took) in &report.cancels {
+        let _ = writeln!(md, "| `{query}` | {:.1} ms |", took.as_secs_f64() * 1e3);
+    }
+    let slowest = report.cancels.iter().map(|(_, t)| *t).max().unwrap_or_default();
+    let _ = writeln!(md, "\nSlowest cancel: **{:.1} ms**.", slowest.as_secs_f64() * 1e3);
+    std::fs::create_dir_all("results").expect("results/ is writable");
+    std::fs::write("results/view-hostile.md", &md).expect("results/view-hostile.md is writable");
+    println!("{md}");
+}
