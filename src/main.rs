@@ -14,6 +14,11 @@ fn main() -> ExitCode {
             let _ = e.print();
             return ExitCode::SUCCESS;
         }
+        // `raypool` alone: the usage and the subcommands on stderr, as cargo and git do.
+        Err(e) if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            eprint!("{}", e.render());
+            return ExitCode::from(2);
+        }
         Err(e) => {
             eprintln!("raypool: error: {}", one_line(&e));
             return ExitCode::from(2);

@@ -242,3 +242,16 @@ fn compare_rejects_bad_inputs() {
     assert_rejected(&dir, &["compare", "a.pfm", "text.pfm"], "not a PFM image");
     assert_rejected(&dir, &["compare", "a.pfm", "a.pfm", "--diff", "no/dir/d.png"], "no/dir/d.png");
 }
+
+#[test]
+fn raypool_alone_prints_the_usage_and_the_subcommands() {
+    let dir = scratch("alone");
+    let out = raypool(&[], &dir);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("Usage: raypool <COMMAND>"), "{stderr}");
+    for command in ["render", "merge", "simulate", "view", "bench"] {
+        assert!(stderr.contains(&format!("  {command} ")), "{command} missing from {stderr}");
+    }
+    assert!(out.stdout.is_empty());
+}
