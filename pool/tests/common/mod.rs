@@ -22,9 +22,10 @@ pub const fn scaled(n: usize) -> usize {
 
 /// Runs `body` on a thread of its own and waits for it at most [`deadline`]. If it has not
 /// finished by then, the test fails with "waited N s for `what`: it never happened" (so
-/// `what` reads "the batch to return"): a pool bug that blocks
-/// (a lost wake-up, a worker that waits without helping) is a failure a student can read,
-/// not a hang. The stuck thread is left behind; the test binary exits regardless.
+/// `what` reads "the batch to return"): a pool bug that blocks (a lost wake-up, a worker that
+/// waits without helping) is a failure a student can read, not a hang. Then the whole test
+/// binary stops (exit code 101, as a failed `cargo test`): the stuck threads cannot be
+/// stopped, and the binary's other tests would most likely wait out the same bug one by one.
 ///
 /// A panic in `body` (a failed assertion) is re-raised here unchanged.
 pub fn within<T: Send + 'static>(what: impl AsRef<str>, body: impl FnOnce() -> T + Send + 'static) -> T {
@@ -51,7 +52,14 @@ pub fn within_for<T: Send + 'static>(
             Ok(()) => unreachable!("the body sends before it returns"),
         },
         Err(mpsc::RecvTimeoutError::Timeout) => {
-            panic!("waited {} s for {}: it never happened", limit.as_secs(), what.as_ref())
+            let test = std::thread::current().name().unwrap_or("a test").to_string();
+            eprintln!(
+                "\ntest {test} FAILED: waited {} s for {}: it never happened\n\
+                 (stopping this test binary: its other tests would wait out the same bug)",
+                limit.as_secs(),
+                what.as_ref()
+            );
+            std::process::exit(101)
         }
     }
 }
