@@ -4,18 +4,43 @@ use std::fmt;
 
 /// A user-facing error (bad input, unwritable file…). Its message names the problem.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Error(String);
+pub struct Error {
+    message: String,
+    exit_code: u8,
+}
 
 impl Error {
-    /// An error with this message.
+    /// An error with this message (exit code 2).
     pub fn new(message: impl Into<String>) -> Error {
-        Error(message.into())
+        Error { message: message.into(), exit_code: 2 }
+    }
+
+    /// The command was stopped by signal `number` (exit code 128 + `number`, as shells do:
+    /// 130 for Ctrl-C, 143 for SIGTERM).
+    ///
+    /// ```
+    /// let e = raypool::Error::interrupted(2);
+    /// assert_eq!((e.exit_code(), e.to_string().as_str()), (130, "interrupted by SIGINT: no output written"));
+    /// ```
+    pub fn interrupted(number: i32) -> Error {
+        let name = match number {
+            2 => "SIGINT".to_string(),
+            15 => "SIGTERM".to_string(),
+            n => format!("signal {n}"),
+        };
+        let exit_code = u8::try_from(128 + number).unwrap_or(1);
+        Error { message: format!("interrupted by {name}: no output written"), exit_code }
+    }
+
+    /// The process's exit code for this error.
+    pub fn exit_code(&self) -> u8 {
+        self.exit_code
     }
 }
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
+        f.write_str(&self.message)
     }
 }
 

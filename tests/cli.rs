@@ -255,3 +255,41 @@ fn raypool_alone_prints_the_usage_and_the_subcommands() {
     }
     assert!(out.stdout.is_empty());
 }
+
+#[test]
+fn an_interrupted_render_leaves_no_file_and_exits_130_or_143() {
+    for (signal, code) in [("INT", 130), ("TERM", 143)] {
+        let dir = scratch(&format!("signal-{signal}"));
+        let mut child = Command::new(env!("CARGO_BIN_EXE_raypool"))
+            .args(["render", "--scene", "final", "--width", "300", "--spp", "2000", "--out", "k.png"])
+            .current_dir(&dir)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Wait until the render has reserved its output (a temporary file beside it).
+        let start = std::time::Instant::now();
+        while !files_in(&dir).iter().any(|f| f.ends_with(".tmp")) {
+            assert!(start.elapsed().as_secs() < 60, "the render never created its temporary file");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        let pid = child.id().to_string();
+        assert!(
+            output_within(Command::new("kill").args([&format!("-{signal}"), &pid]), "`kill` to exit")
+                .status
+                .success()
+        );
+        let status = loop {
+            if let Some(status) = child.try_wait().unwrap() {
+                break status;
+            }
+            assert!(start.elapsed().as_secs() < 120, "SIG{signal}: the render never stopped");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        };
+        let mut stderr = String::new();
+        std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
+        assert_eq!(status.code(), Some(code), "SIG{signal}: {stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "one line: {stderr:?}");
+        assert!(stderr.contains(&format!("interrupted by SIG{signal}")), "{stderr}");
+        assert!(files_in(&dir).is_empty(), "SIG{signal} left {:?}", files_in(&dir));
+    }
+}

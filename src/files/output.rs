@@ -60,6 +60,11 @@ impl PendingOutput {
         self.format
     }
 
+    /// Where the file is being prepared (removed when `self` is dropped unwritten).
+    pub fn temp_path(&self) -> &Path {
+        self.temp.path()
+    }
+
     /// Checks the format and that the destination's directory is writable.
     pub fn create(path: &Path) -> Result<PendingOutput, Error> {
         let format = Format::from_path(path)?;

@@ -1,5 +1,8 @@
-//! The command line: `raypool render | merge | simulate | scenes | scene | bench | compare`. Every failure is an [`Error`] that
-//! `main` prints on one line before exiting with code 2.
+//! **The command line**: `raypool render | merge | simulate | scenes | scene | bench | compare`.
+//! Every failure is an [`Error`] that `main` prints on one line before exiting with code 2
+//! (130 or 143 when Ctrl-C or SIGTERM stopped a render: [`interrupt`]).
+
+pub mod interrupt;
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -9,6 +12,7 @@ use std::time::Instant;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::cli::interrupt::Interrupt;
 use crate::error::Error;
 use crate::files::output::{Format, PendingOutput};
 use crate::files::part::{Part, PartSettings, merge, scene_digest};
@@ -18,6 +22,7 @@ use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::scenes::format::SceneFile;
 use crate::schedule::frame::{DEFAULT_TILE, Frame, RngSource};
 use crate::schedule::modes::{Schedule, render};
+use crate::schedule::progressive::Cancel;
 use crate::tracer::real::Real;
 use crate::tracer::render::{Adaptive, MAX_SIDE, RenderJob, RenderSettings, default_height};
 use crate::tracer::sampler::{Sampler, SharedRng};
@@ -361,6 +366,9 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
     let settings = render_settings(image, &scene, args.workers.rng)?;
     let threads = args.workers.threads.map_or_else(default_threads, |t| t as usize);
     let output = PendingOutput::create(&args.out)?; // fail fast, before the long part
+    // From here on, Ctrl-C stops the render and removes the temporary file.
+    let cancel = Cancel::default();
+    let interrupt = Interrupt::watch(cancel.clone(), output.temp_path().to_owned())?;
     let shard = check_shard(args, output.format())?;
     let rng = match args.workers.rng {
         RngChoice::PerSample => RngSource::streams(&settings),
@@ -374,12 +382,14 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
         Arc::new(move |n| bar.inc(n))
     };
     let job = RenderJob::new(image.accel.apply(scene.to_scene()), settings);
-    let frame = Arc::new(Frame::new(job, rng, threads, image.tile, progress).sharded(shard));
+    let frame =
+        Arc::new(Frame::new(job, rng, threads, image.tile, progress).sharded(shard).with_cancel(cancel));
 
     let start = Instant::now();
     let rendered = render(&frame, &args.workers.mode);
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
+    interrupt.check()?; // dropping `output` deletes its temporary file
     if output.format() == Format::Part {
         let digest = scene_digest(&scene.to_toml());
         let mut part = Part::new(
