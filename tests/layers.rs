@@ -23,7 +23,7 @@ const LAYERS: &[(&str, u32)] = &[
 ];
 
 /// The only files that may sit directly in `src/` (besides the layer folders).
-const TOP_FILES: &[&str] = &["lib.rs", "main.rs", "error.rs", "cli.rs"];
+const TOP_FILES: &[&str] = &["lib.rs", "main.rs", "error.rs"];
 
 fn rank(layer: &str) -> u32 {
     LAYERS.iter().find(|(name, _)| *name == layer).unwrap_or_else(|| panic!("'{layer}' is not a layer")).1
