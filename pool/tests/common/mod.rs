@@ -1,6 +1,7 @@
 //! Helpers shared by the pool's test files.
 #![allow(dead_code)] // each test file uses a subset of these
 
+use std::io::Write;
 use std::panic::resume_unwind;
 use std::sync::mpsc;
 use std::time::Duration;
@@ -53,7 +54,10 @@ pub fn within_for<T: Send + 'static>(
         },
         Err(mpsc::RecvTimeoutError::Timeout) => {
             let test = std::thread::current().name().unwrap_or("a test").to_string();
-            eprintln!(
+            // Straight to the process's stderr: the test harness keeps what `eprintln!` writes
+            // until the test ends, and this test never will.
+            let _ = writeln!(
+                std::io::stderr(),
                 "\ntest {test} FAILED: waited {} s for {}: it never happened\n\
                  (stopping this test binary: its other tests would wait out the same bug)",
                 limit.as_secs(),
