@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, AtomicUsize, Ordering::Relaxed};
 use std::time::Duration;
 
-use common::{quiet_deliberate_panics, scaled, spin, within};
+use common::{quiet_deliberate_panics, scaled, spin, wait_until, within};
 use pool::{BuildError, Discipline, ThreadPool};
 
 #[test]
@@ -296,13 +296,7 @@ fn stealing_balances_an_uneven_batch() {
         let waited = pool.batch((0..100u64).map(|i| {
             let job1_ran = Arc::clone(&job1_ran);
             move || match i {
-                0 => {
-                    let deadline = std::time::Instant::now() + Duration::from_secs(10);
-                    while !job1_ran.load(Relaxed) && std::time::Instant::now() < deadline {
-                        std::thread::yield_now();
-                    }
-                    job1_ran.load(Relaxed)
-                }
+                0 => wait_until(&job1_ran, Duration::from_secs(10)),
                 1 => {
                     job1_ran.store(true, Relaxed);
                     true
@@ -376,13 +370,7 @@ fn every_thief_reaches_every_victim() {
         let waited = pool.batch((0..6u64).map(|i| {
             let job3_ran = Arc::clone(&job3_ran);
             move || match i {
-                0 | 2 => {
-                    let deadline = std::time::Instant::now() + Duration::from_secs(10);
-                    while !job3_ran.load(Relaxed) && std::time::Instant::now() < deadline {
-                        std::thread::yield_now();
-                    }
-                    job3_ran.load(Relaxed)
-                }
+                0 | 2 => wait_until(&job3_ran, Duration::from_secs(10)),
                 3 => {
                     job3_ran.store(true, Relaxed);
                     true
@@ -411,10 +399,7 @@ fn a_worker_of_another_pool_never_runs_this_pools_jobs() {
                 let go = Arc::new(std::sync::atomic::AtomicBool::new(false));
                 let hold = Arc::clone(&go);
                 b.spawn(move || {
-                    let deadline = std::time::Instant::now() + Duration::from_secs(10);
-                    while !hold.load(Relaxed) && std::time::Instant::now() < deadline {
-                        std::thread::yield_now();
-                    }
+                    wait_until(&hold, Duration::from_secs(10));
                 });
                 let release = Arc::clone(&go);
                 let releaser = std::thread::spawn(move || {

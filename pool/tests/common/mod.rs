@@ -79,6 +79,16 @@ pub fn quiet_deliberate_panics() {
     }));
 }
 
+/// Yields until `flag` is set or `limit` has passed; returns the flag. A job that must wait for
+/// another job uses it, so that a pool that never runs the other one fails, not hangs.
+pub fn wait_until(flag: &std::sync::atomic::AtomicBool, limit: Duration) -> bool {
+    let give_up = std::time::Instant::now() + limit;
+    while !flag.load(std::sync::atomic::Ordering::SeqCst) && std::time::Instant::now() < give_up {
+        std::thread::yield_now();
+    }
+    flag.load(std::sync::atomic::Ordering::SeqCst)
+}
+
 /// Busy-waits about `micros` microseconds (a job of known length that really uses the CPU).
 pub fn spin(micros: u64) {
     let start = std::time::Instant::now();
