@@ -166,9 +166,14 @@ impl Frame {
         self.tiles().iter().map(|t| t.area() as u64).sum()
     }
 
+    /// Whether the frame's cancel flag ([`Frame::with_cancel`]) has been raised.
+    pub fn is_cancelled(&self) -> bool {
+        self.cancel.as_ref().is_some_and(Cancel::is_cancelled)
+    }
+
     /// Renders `tile` on the calling thread and reports its pixels as progress.
     pub fn render(&self, tile: Tile) -> TileOutput {
-        if self.cancel.as_ref().is_some_and(Cancel::is_cancelled) {
+        if self.is_cancelled() {
             let pixels = vec![Default::default(); tile.area()];
             return TileOutput { tile, pixels, rays: 0, samples: 0, timing: None };
         }
