@@ -82,7 +82,11 @@ fn random_job_lengths_keep_order_and_count() {
             let wall = start.elapsed();
             assert_eq!(out, lengths, "{discipline:?}");
             let stats = pool.stats();
-            assert_eq!(stats.total_jobs(), 500);
+            assert_eq!(
+                stats.total_jobs(),
+                500,
+                "{discipline:?}: the batch returned before every job was recorded"
+            );
             let busy: Duration = stats.workers.iter().map(|w| w.busy).sum();
             assert!(busy >= Duration::from_micros(lengths.iter().sum()), "{discipline:?}: busy {busy:?}");
             // Three workers cannot be busy for longer than three times the batch's wall time.
