@@ -53,9 +53,9 @@
 //!
 //! | bug | what loom says | what the stress tests say | the invariant it breaks |
 //! |---|---|---|---|
-//! | `lost-wakeup`: a sleeper counts itself in `sleepers` only once it has decided to sleep | `deadlock`: the pusher blocked in `join`, the worker in `sleep.rs`'s `wait` | nothing: the window is a few nanoseconds wide, 20,000 hand-offs pass | a sleeper registers *before* it looks for work (`sleep.rs`) |
-//! | `early-latch`: a worker counts the batch's latch down before recording the job | `the caller saw unrecorded jobs` (`left: 1, right: 2`) | `random_job_lengths_keep_order_and_count`: busy time short of the work | the latch opens only after the job's bookkeeping (`worker.rs`) |
-//! | `waiter-does-not-help`: a worker waiting on a batch just sleeps | `deadlock`: both threads in `latch.rs`'s `wait` | `waited 15 s for Shared: the nested batches to return (a worker waiting on a batch must run queued jobs): it never happened` | the waiting rule (`batch.rs`) |
+//! | `lost-wakeup`: a sleeper counts itself in `sleepers` only once it has decided to sleep | `deadlock`: the pusher blocked in `join`, the worker in `sleep.rs`'s `wait` (6 models fail) | nothing: the window is nanoseconds wide, 20,000 hand-offs pass | a sleeper registers *before* it looks for work (`sleep.rs`) |
+//! | `early-latch`: a worker counts the batch's latch down before recording the job | `Locked: the caller saw unrecorded jobs` (`left: 1`, `right: 2`) | `random_job_lengths_keep_order_and_count`: `the batch returned before every job was recorded` (`left: 499`, `right: 500`) | the latch opens only after the job's bookkeeping (`worker.rs`) |
+//! | `waiter-does-not-help`: a worker waiting on a batch just sleeps | `deadlock`: both threads in `latch.rs`'s `wait` | `waited 15 s for Shared: the nested batch to return: it never happened` | the waiting rule (`batch.rs`) |
 //!
 //! # Example
 //!
