@@ -5,7 +5,7 @@
 //! next tile, so it stops within one tile's time), waits for its thread, and starts the new
 //! one. The render thread runs passes of 1, 1, 2, 4, 8, 16, 16, … samples per pixel (so 1, 2,
 //! 4, 8, 16, 32, 48, … accumulated; fewer per pass for big tiles or wide rows, see
-//! [`MAX_JOB_SAMPLES`]) up to `--spp`, each pass one batch of tiles on the chosen scheduler; every
+//! `MAX_JOB_SAMPLES`) up to `--spp`, each pass one batch of tiles on the chosen scheduler; every
 //! finished tile becomes an event for the pages, and every finished pass becomes the image that
 //! `/image.pfm` serves, which is the image `raypool render` makes at that many samples.
 //!
