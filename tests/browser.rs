@@ -26,8 +26,9 @@ fn the_page_renders_live_with_a_lane_per_worker_and_orbits() {
             std::env::var_os("RAYPOOL_CI").is_none(),
             "Chromium is required under .ci/run: apt-get install -y chromium"
         );
-        eprintln!(
-            "SKIPPED the_page_renders_live_with_a_lane_per_worker_and_orbits: chromium not installed (apt-get install -y chromium)"
+        deadline::skipped(
+            "the_page_renders_live_with_a_lane_per_worker_and_orbits",
+            "chromium not installed (apt-get install -y chromium)",
         );
         return;
     };

@@ -112,7 +112,7 @@ fn a_job_array_of_shards_merges_into_the_one_process_image() {
     if let Some(why) = missing() {
         let required = std::env::var_os("RAYPOOL_CI").is_some();
         assert!(!required, "Slurm is required under .ci/run: {why}");
-        eprintln!("SKIPPED a_job_array_of_shards_merges_into_the_one_process_image: {why}");
+        deadline::skipped("a_job_array_of_shards_merges_into_the_one_process_image", &why);
         return;
     }
     let dir = std::env::temp_dir().join(format!("raypool-slurm-{}", std::process::id()));

@@ -99,3 +99,11 @@ fn drain(mut pipe: impl Read + Send + 'static) -> mpsc::Receiver<Vec<u8>> {
     });
     bytes
 }
+
+/// Says that test `name` skipped, and why, where `cargo test` shows it without `--nocapture`:
+/// straight to the process's stderr, which the harness does not capture (it captures only
+/// `eprintln!`), so the line stands beside the test's `ok`.
+pub fn skipped(name: &str, why: &str) {
+    use std::io::Write as _;
+    let _ = writeln!(std::io::stderr(), "SKIPPED {name}: {why}");
+}
