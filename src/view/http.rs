@@ -1,7 +1,7 @@
 //! The viewer's HTTP/1.1, on `std::net` and `httparse` (the request parser hyper uses): one
 //! request per connection, read under caps and a deadline whatever the client claims.
 //!
-//! Why not an HTTP server crate: `tiny_http` 0.12 (unmaintained since 2022), which the viewer
+//! Why not an HTTP server crate: `tiny_http` 0.12 (its latest release), which the viewer
 //! used, allocates a buffer the size of the claimed `Content-Length` when it drops a request
 //! whose body was not read (`Content-Length: 1000000000000` aborted the process), and reads
 //! that body on the thread that drops it; the well-kept servers (hyper, axum) need an async
@@ -254,6 +254,7 @@ fn reason_phrase(status: u16) -> &'static str {
         409 => "Conflict",
         411 => "Length Required",
         413 => "Content Too Large",
+        500 => "Internal Server Error",
         431 => "Request Header Fields Too Large",
         503 => "Service Unavailable",
         _ => "Error",

@@ -76,8 +76,8 @@ fn address(viewer: &Viewer) -> String {
     viewer.url.trim_start_matches("http://").trim_end_matches('/').to_string()
 }
 
-/// Sends `bytes` on a new connection (closing after `close_after` if given) and returns the
-/// answer's status, or "closed".
+/// Sends `bytes` on a new connection (then closes the sending side if `half_close`) and returns
+/// the answer's status, or "closed".
 fn exchange(address: &str, bytes: &[u8], half_close: bool) -> String {
     let Ok(mut stream) = TcpStream::connect(address) else { return "refused".into() };
     let _ = stream.set_read_timeout(Some(Duration::from_secs(15)));
