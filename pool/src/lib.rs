@@ -90,6 +90,7 @@
 #![deny(missing_docs)]
 
 mod batch;
+pub mod conformance;
 mod latch;
 mod locked;
 mod pool;
@@ -102,5 +103,5 @@ mod sync;
 mod worker;
 
 pub use pool::{BuildError, Builder, ThreadPool};
-pub use queue::Discipline;
+pub use queue::{Discipline, Job, JobQueue, MakeQueue, Popped};
 pub use stats::{JobSpan, PoolStats, WorkerStats};

@@ -10,11 +10,8 @@ use std::fmt;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::locked::LockedQueue;
-use crate::queue::{Discipline, Job, JobQueue};
-use crate::shared::SharedQueue;
+use crate::queue::{Discipline, Job, MakeQueue};
 use crate::stats::{JobSpan, PoolStats, WorkerCounters};
-use crate::steal::StealQueue;
 use crate::sync::{JoinHandle, thread};
 use crate::worker::Registry;
 
@@ -30,7 +27,7 @@ use crate::worker::Registry;
 pub struct ThreadPool {
     pub(crate) registry: Arc<Registry>,
     threads: Vec<JoinHandle<()>>,
-    discipline: Discipline,
+    discipline: Option<Discipline>,
 }
 
 /// Why a pool could not be built.
@@ -63,12 +60,14 @@ impl std::error::Error for BuildError {}
 /// ```
 /// use pool::{Discipline, ThreadPool};
 /// let pool = ThreadPool::builder().workers(2).discipline(Discipline::Locked).instrument(true).build().unwrap();
-/// assert_eq!(pool.discipline(), Discipline::Locked);
+/// assert_eq!(pool.discipline(), Some(Discipline::Locked));
 /// ```
 #[derive(Clone, Debug)]
 pub struct Builder {
     workers: usize,
-    discipline: Discipline,
+    /// The built-in discipline chosen, or `None` for a queue given to [`Builder::queue`].
+    discipline: Option<Discipline>,
+    make_queue: MakeQueue,
     instrument: bool,
 }
 
@@ -88,10 +87,26 @@ impl Builder {
     /// ```
     /// use pool::{Discipline, ThreadPool};
     /// let pool = ThreadPool::builder().discipline(Discipline::Stealing).build().unwrap();
-    /// assert_eq!(pool.discipline(), Discipline::Stealing);
+    /// assert_eq!(pool.discipline(), Some(Discipline::Stealing));
     /// ```
     pub fn discipline(mut self, discipline: Discipline) -> Builder {
-        self.discipline = discipline;
+        (self.discipline, self.make_queue) = (Some(discipline), discipline.queue());
+        self
+    }
+
+    /// A queue discipline of your own instead of a built-in one: `make` is called once, with
+    /// the worker count, when the pool is built. See [`JobQueue`](crate::JobQueue) for a
+    /// complete example.
+    ///
+    /// ```
+    /// use pool::{Discipline, ThreadPool};
+    /// // Any function from a worker count to a boxed queue will do; here, a built-in one.
+    /// let pool = ThreadPool::builder().workers(2).queue(Discipline::Locked.queue()).build().unwrap();
+    /// assert_eq!(pool.batch([|| 1, || 2]), vec![1, 2]);
+    /// assert_eq!(pool.discipline(), None);
+    /// ```
+    pub fn queue(mut self, make: MakeQueue) -> Builder {
+        (self.discipline, self.make_queue) = (None, make);
         self
     }
 
@@ -121,13 +136,8 @@ impl Builder {
         if self.workers == 0 {
             return Err(BuildError::NoWorkers);
         }
-        let queue: Box<dyn JobQueue> = match self.discipline {
-            Discipline::Shared => Box::new(SharedQueue::new()),
-            Discipline::Locked => Box::new(LockedQueue::new()),
-            Discipline::Stealing => Box::new(StealQueue::new(self.workers)),
-        };
         let registry = Arc::new(Registry {
-            queue,
+            queue: (self.make_queue)(self.workers),
             counters: (0..self.workers).map(|_| WorkerCounters::default()).collect(),
             instrument: self.instrument,
             epoch: Instant::now(),
@@ -168,7 +178,8 @@ impl ThreadPool {
     /// ```
     pub fn builder() -> Builder {
         let workers = std::thread::available_parallelism().map_or(1, |n| n.get());
-        Builder { workers, discipline: Discipline::default(), instrument: false }
+        let discipline = Discipline::default();
+        Builder { workers, discipline: Some(discipline), make_queue: discipline.queue(), instrument: false }
     }
 
     /// Runs `job` on some worker, some time; its result and panic go nowhere (a panic is
@@ -196,13 +207,14 @@ impl ThreadPool {
         self.registry.counters.len()
     }
 
-    /// The queue discipline chosen at construction.
+    /// The built-in queue discipline chosen at construction; `None` for a queue of one's own
+    /// ([`Builder::queue`]).
     ///
     /// ```
     /// use pool::{Discipline, ThreadPool};
-    /// assert_eq!(ThreadPool::new(1, Discipline::Locked).unwrap().discipline(), Discipline::Locked);
+    /// assert_eq!(ThreadPool::new(1, Discipline::Locked).unwrap().discipline(), Some(Discipline::Locked));
     /// ```
-    pub fn discipline(&self) -> Discipline {
+    pub fn discipline(&self) -> Option<Discipline> {
         self.discipline
     }
 

@@ -5,6 +5,10 @@
 //! through [`JobQueue`], so the three disciplines (`shared.rs`, `locked.rs`, `steal.rs`) can be
 //! read, and measured, side by side.
 //!
+//! [`JobQueue`] is public so that a discipline can also be written outside this crate (a
+//! course assignment's, say) and given to [`Builder::queue`](crate::Builder::queue);
+//! [`conformance::check`](crate::conformance::check) tells whether it keeps the invariants.
+//!
 //! Invariants every implementation keeps:
 //! - a pushed job is popped at most once (no duplication) and, unless the pool is dropped
 //!   mid-flight by a panic, exactly once (no loss);
@@ -15,28 +19,39 @@
 use std::sync::Arc;
 
 use crate::latch::CountLatch;
+use crate::locked::LockedQueue;
+use crate::shared::SharedQueue;
+use crate::steal::StealQueue;
 
-/// A unit of work: run once, on some thread.
-pub(crate) struct Job {
+/// A unit of work: run once, on some thread. Opaque to a queue, which only stores jobs and
+/// hands them out; the pool's workers run them.
+pub struct Job {
     /// The work itself.
-    pub body: Box<dyn FnOnce() + Send + 'static>,
+    pub(crate) body: Box<dyn FnOnce() + Send + 'static>,
     /// The batch latch to count down once the job has run *and* been recorded in the
     /// worker's statistics (so a batch's caller always sees complete statistics).
-    pub latch: Option<Arc<CountLatch>>,
+    pub(crate) latch: Option<Arc<CountLatch>>,
 }
 
 impl Job {
     /// A job that belongs to no batch.
-    pub fn detached(body: impl FnOnce() + Send + 'static) -> Job {
+    pub(crate) fn detached(body: impl FnOnce() + Send + 'static) -> Job {
         Job { body: Box::new(body), latch: None }
     }
 }
 
-/// A job taken from a queue, and whether it was taken from another worker's deque.
-pub(crate) struct Popped {
+/// A job taken from a queue, and whether it was taken from another worker's deque (which
+/// the pool counts in [`WorkerStats::stolen`](crate::WorkerStats::stolen)).
+pub struct Popped {
+    /// The job.
     pub job: Job,
+    /// Taken from another worker's share of the queue.
     pub stolen: bool,
 }
+
+/// Makes the queue of a pool of `workers` workers: what [`Builder::queue`](crate::Builder::queue)
+/// takes, and what [`Discipline::queue`] gives for the built-in disciplines.
+pub type MakeQueue = fn(workers: usize) -> Box<dyn JobQueue>;
 
 /// How a [`ThreadPool`](crate::ThreadPool) queues its jobs, chosen at construction.
 ///
@@ -71,16 +86,77 @@ impl Discipline {
     /// use pool::{Discipline, ThreadPool};
     /// for discipline in Discipline::ALL {
     ///     let pool = ThreadPool::new(2, discipline).unwrap();
-    ///     assert_eq!(pool.discipline(), discipline);
+    ///     assert_eq!(pool.discipline(), Some(discipline));
     /// }
     /// assert_eq!(Discipline::ALL.len(), 3);
     /// ```
     pub const ALL: [Discipline; 3] = [Discipline::Shared, Discipline::Locked, Discipline::Stealing];
+
+    /// How this discipline's queue is made.
+    ///
+    /// ```
+    /// let make = pool::Discipline::Locked.queue();
+    /// let queue = make(2);
+    /// assert!(queue.try_pop(None).is_none(), "a new queue is empty");
+    /// ```
+    pub fn queue(self) -> MakeQueue {
+        match self {
+            Discipline::Shared => |_| Box::new(SharedQueue::new()),
+            Discipline::Locked => |_| Box::new(LockedQueue::new()),
+            Discipline::Stealing => |workers| Box::new(StealQueue::new(workers)),
+        }
+    }
 }
 
 /// The operations the pool needs from a queue discipline. `me` is the calling worker's
-/// index, or `None` for a thread that is not one of the pool's workers.
-pub(crate) trait JobQueue: Send + Sync {
+/// index (`0..workers`), or `None` for a thread that is not one of the pool's workers.
+///
+/// An implementation keeps the invariants in this module's opening comment: a pushed job
+/// is popped exactly once, `wait_pop` sleeps (without spinning) while there is nothing to
+/// do and returns `None` only once closed *and* empty. A queue of its own, the textbook
+/// monitor in a dozen lines, and a pool that uses it:
+///
+/// ```
+/// use std::collections::VecDeque;
+/// use std::sync::{Condvar, Mutex};
+/// use pool::{Job, JobQueue, Popped, ThreadPool};
+///
+/// #[derive(Default)]
+/// struct Monitor { state: Mutex<(VecDeque<Job>, bool)>, ready: Condvar }
+///
+/// impl JobQueue for Monitor {
+///     fn push(&self, job: Job, _me: Option<usize>) {
+///         self.state.lock().unwrap().0.push_back(job);
+///         self.ready.notify_one();
+///     }
+///     fn try_pop(&self, _me: Option<usize>) -> Option<Popped> {
+///         let job = self.state.lock().unwrap().0.pop_front()?;
+///         Some(Popped { job, stolen: false })
+///     }
+///     fn wait_pop(&self, _me: usize) -> Option<Popped> {
+///         let mut state = self.state.lock().unwrap();
+///         loop {
+///             if let Some(job) = state.0.pop_front() {
+///                 return Some(Popped { job, stolen: false });
+///             }
+///             if state.1 {
+///                 return None; // closed and empty
+///             }
+///             state = self.ready.wait(state).unwrap();
+///         }
+///     }
+///     fn close(&self) {
+///         self.state.lock().unwrap().1 = true;
+///         self.ready.notify_all();
+///     }
+/// }
+///
+/// let pool = ThreadPool::builder().workers(3).queue(|_| Box::new(Monitor::default())).build().unwrap();
+/// assert_eq!(pool.batch((0..5).map(|i| move || i + 1)), vec![1, 2, 3, 4, 5]);
+/// assert_eq!(pool.discipline(), None, "not a built-in discipline");
+/// pool::conformance::check(|_| Box::new(Monitor::default())).unwrap();
+/// ```
+pub trait JobQueue: Send + Sync {
     /// Queues one job.
     fn push(&self, job: Job, me: Option<usize>);
     /// Queues many jobs at once (a batch): a discipline may spread them out.

@@ -48,6 +48,10 @@ pub type Progress = Arc<dyn Fn(u64) + Send + Sync>;
 /// Sees every tile the moment it is finished (with its timing), from the rendering thread.
 pub type TileHook = Arc<dyn Fn(&TileOutput) + Send + Sync>;
 
+/// Sees every tile just before it is rendered, from the rendering thread (the conformance
+/// check uses it to see how many threads render at once).
+pub type StartHook = Arc<dyn Fn(Tile) + Send + Sync>;
+
 /// One render in progress, as handed to a [`Scheduler`](crate::schedule::modes::Scheduler).
 #[derive(Clone)]
 pub struct Frame {
@@ -61,6 +65,7 @@ pub struct Frame {
     pass: Option<Pass>,
     cancel: Option<Cancel>,
     on_tile: Option<TileHook>,
+    on_start: Option<StartHook>,
     progress: Progress,
     epoch: Instant,
 }
@@ -84,6 +89,7 @@ impl Frame {
             pass: None,
             cancel: None,
             on_tile: None,
+            on_start: None,
             progress,
             epoch: Instant::now(),
         }
@@ -128,6 +134,13 @@ impl Frame {
     /// The same frame, calling `hook` with every tile as soon as it is rendered.
     pub fn with_tile_hook(mut self, hook: TileHook) -> Frame {
         self.on_tile = Some(hook);
+        self
+    }
+
+    /// The same frame, calling `hook` with every tile just before it is rendered, on the
+    /// thread that renders it (never for a tile skipped because the frame was cancelled).
+    pub fn with_start_hook(mut self, hook: StartHook) -> Frame {
+        self.on_start = Some(hook);
         self
     }
 
@@ -176,6 +189,9 @@ impl Frame {
         if self.is_cancelled() {
             let pixels = vec![Default::default(); tile.area()];
             return TileOutput { tile, pixels, rays: 0, samples: 0, timing: None };
+        }
+        if let Some(hook) = &self.on_start {
+            hook(tile);
         }
         let start = self.epoch.elapsed();
         let mut out = match &self.rng {

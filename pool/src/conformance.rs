@@ -1,0 +1,193 @@
+//! The conformance check for queue disciplines: what a queue written outside this crate (a
+//! course assignment's) must pass before it is measured.
+//!
+//! [`check`] builds pools on the queue and runs, each under a deadline, the contract every
+//! built-in discipline keeps (`tests/contract.rs` checks them at greater length):
+//! - a batch returns every result, in submission order, on 1 to 4 workers, and each job ran
+//!   exactly once;
+//! - jobs spawned from several threads all run;
+//! - batches nested inside jobs return, even on one worker (the waiting rule of `batch.rs`
+//!   needs `try_pop` to hand a waiting worker the queued jobs);
+//! - dropping a pool runs every job still queued;
+//! - idle workers sleep: a pool with nothing to do uses (almost) no CPU time.
+//!
+//! A deadline missed is reported as an error naming what never happened. The stuck threads
+//! cannot be stopped from outside and are left behind: a failed check is the end of a run.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use crate::pool::ThreadPool;
+use crate::queue::MakeQueue;
+
+/// How long each part of the check may take (they take milliseconds when they pass).
+pub const DEADLINE: Duration = Duration::from_secs(30);
+
+/// Checks that pools built on `make`'s queues keep the pool's contract; the error says
+/// which rule broke.
+///
+/// ```
+/// for discipline in pool::Discipline::ALL {
+///     pool::conformance::check(discipline.queue()).unwrap();
+/// }
+/// ```
+pub fn check(make: MakeQueue) -> Result<(), String> {
+    for workers in 1..=4 {
+        within(format!("a batch of 2,000 jobs on {workers} workers to return"), move || {
+            batches_return_in_order(make, workers)
+        })?;
+    }
+    within("20,000 jobs spawned from 4 threads to run".into(), move || spawned_jobs_all_run(make))?;
+    for workers in [1, 2] {
+        within(format!("batches nested in jobs on {workers} worker(s) to return"), move || {
+            nested_batches_return(make, workers)
+        })?;
+    }
+    within("a dropped pool to run its 1,000 queued jobs and join".into(), move || drop_runs_queued(make))?;
+    within("an idle pool's check to finish".into(), move || idle_workers_sleep(make))?;
+    Ok(())
+}
+
+/// Runs `part` on its own thread and waits at most [`DEADLINE`] for it.
+fn within(what: String, part: impl FnOnce() -> Result<(), String> + Send + 'static) -> Result<(), String> {
+    let (done, finished) = mpsc::channel();
+    std::thread::spawn(move || {
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(part))
+            .unwrap_or_else(|_| Err("it panicked (see the message above)".into()));
+        let _ = done.send(outcome);
+    });
+    match finished.recv_timeout(DEADLINE) {
+        Ok(outcome) => outcome.map_err(|e| format!("{what}: {e}")),
+        Err(_) => Err(format!("waited {} s for {what}: it never happened", DEADLINE.as_secs())),
+    }
+}
+
+fn pool(make: MakeQueue, workers: usize) -> ThreadPool {
+    ThreadPool::builder().workers(workers).queue(make).build().expect("the pool's threads start")
+}
+
+fn batches_return_in_order(make: MakeQueue, workers: usize) -> Result<(), String> {
+    let pool = pool(make, workers);
+    let runs: Arc<Vec<AtomicUsize>> = Arc::new((0..2_000).map(|_| AtomicUsize::new(0)).collect());
+    let out = pool.batch((0..2_000).map(|i| {
+        let runs = Arc::clone(&runs);
+        move || {
+            runs[i].fetch_add(1, Relaxed);
+            i
+        }
+    }));
+    if let Some(i) = (0..2_000).find(|&i| out.get(i) != Some(&i)) {
+        return Err(format!("result {i} is {:?}: results must come back in submission order", out.get(i)));
+    }
+    match (0..2_000).find(|&i| runs[i].load(Relaxed) != 1) {
+        Some(i) => Err(format!("job {i} ran {} times instead of once", runs[i].load(Relaxed))),
+        None => Ok(()),
+    }
+}
+
+fn spawned_jobs_all_run(make: MakeQueue) -> Result<(), String> {
+    let ran = Arc::new(AtomicUsize::new(0));
+    let (tell, told) = mpsc::channel();
+    let pool = pool(make, 3);
+    std::thread::scope(|s| {
+        for _ in 0..4 {
+            s.spawn(|| {
+                for _ in 0..5_000 {
+                    let (ran, tell) = (Arc::clone(&ran), tell.clone());
+                    pool.spawn(move || {
+                        ran.fetch_add(1, Relaxed);
+                        let _ = tell.send(());
+                    });
+                }
+            });
+        }
+    });
+    for _ in 0..20_000 {
+        told.recv_timeout(DEADLINE).map_err(|_| {
+            format!("only {} of 20,000 spawned jobs ran: is a pushed job lost?", ran.load(Relaxed))
+        })?;
+    }
+    Ok(())
+}
+
+fn nested_batches_return(make: MakeQueue, workers: usize) -> Result<(), String> {
+    let pool = Arc::new(pool(make, workers));
+    let inner = Arc::clone(&pool);
+    let sums = pool.batch((0..8u64).map(|i| {
+        let pool = Arc::clone(&inner);
+        move || pool.batch((0..8u64).map(move |j| move || i * 8 + j)).into_iter().sum::<u64>()
+    }));
+    let total: u64 = sums.iter().sum();
+    if total == (0..64).sum::<u64>() { Ok(()) } else { Err(format!("the nested sums add up to {total}")) }
+}
+
+fn drop_runs_queued(make: MakeQueue) -> Result<(), String> {
+    let ran = Arc::new(AtomicUsize::new(0));
+    {
+        let pool = pool(make, 2);
+        for _ in 0..1_000 {
+            let ran = Arc::clone(&ran);
+            pool.spawn(move || {
+                std::thread::sleep(Duration::from_micros(10));
+                ran.fetch_add(1, Relaxed);
+            });
+        }
+    }
+    match ran.load(Relaxed) {
+        1_000 => Ok(()),
+        n => Err(format!("only {n} of 1,000 queued jobs ran before drop returned")),
+    }
+}
+
+/// Four idle workers for 200 ms use (almost) no CPU time: measured per worker thread, from
+/// Linux's `/proc` (elsewhere this part checks nothing), so that other threads of the
+/// process do not count.
+fn idle_workers_sleep(make: MakeQueue) -> Result<(), String> {
+    let pool = pool(make, 4);
+    // Four jobs that wait for each other: each worker runs exactly one, and says who it is.
+    let all_four = Arc::new(std::sync::Barrier::new(4));
+    let tids = pool.batch((0..4).map(|_| {
+        let all_four = Arc::clone(&all_four);
+        move || {
+            all_four.wait();
+            thread_id_in_proc()
+        }
+    }));
+    let Some(tids) = tids.into_iter().collect::<Option<Vec<u64>>>() else { return Ok(()) };
+    let cpu = || tids.iter().map(|&tid| thread_cpu_time(tid)).sum::<Option<Duration>>();
+    let (before, wall) = (cpu(), Instant::now());
+    std::thread::sleep(Duration::from_millis(200));
+    let (after, wall) = (cpu(), wall.elapsed());
+    if let (Some(before), Some(after)) = (before, after) {
+        let used = after.saturating_sub(before);
+        // Four spinning workers would use up to 4 × 200 ms; sleeping ones, about nothing.
+        if used > wall / 2 {
+            return Err(format!(
+                "4 idle workers used {} ms of CPU in {} ms: a worker with nothing to do must sleep \
+                 (wait on a condition variable or a channel), not spin",
+                used.as_millis(),
+                wall.as_millis()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The calling thread's id in `/proc` (Linux); `None` elsewhere.
+fn thread_id_in_proc() -> Option<u64> {
+    let stat = std::fs::read_to_string("/proc/thread-self/stat").ok()?;
+    stat.split_whitespace().next()?.parse().ok()
+}
+
+/// User + system CPU time of thread `tid` of this process, from `/proc` (Linux).
+fn thread_cpu_time(tid: u64) -> Option<Duration> {
+    let stat = std::fs::read_to_string(format!("/proc/self/task/{tid}/stat")).ok()?;
+    // The fields after the command name (which may hold spaces, hence the last ')'):
+    // state is the first, utime the 12th and stime the 13th.
+    let fields: Vec<&str> = stat[stat.rfind(')')? + 2..].split_whitespace().collect();
+    let ticks: u64 = fields.get(11)?.parse::<u64>().ok()? + fields.get(12)?.parse::<u64>().ok()?;
+    // The kernel's USER_HZ is 100 on every Linux this runs on.
+    Some(Duration::from_millis(ticks * 10))
+}
