@@ -23,9 +23,25 @@ impl Scheduler for Rayon {
 }
 
 fn main() {
-    // `cargo bench` passes `--bench`; any other argument filters nothing here.
-    let quick = std::env::args().any(|a| a == "--quick");
-    let preset = if quick { Preset::quick() } else { Preset::full() };
+    // `cargo bench` passes `--bench`; `-- --quick` and `-- --threads 1,2,4` are ours.
+    let args: Vec<String> = std::env::args().collect();
+    let quick = args.iter().any(|a| a == "--quick");
+    let threads: Vec<usize> = match args.iter().position(|a| a == "--threads") {
+        Some(k) => args
+            .get(k + 1)
+            .map_or("", String::as_str)
+            .split(',')
+            .map(|t| match t.parse() {
+                Ok(t) if t > 0 => t,
+                _ => {
+                    eprintln!("--threads takes a list of counts of at least 1, e.g. --threads 1,2,4");
+                    std::process::exit(2)
+                }
+            })
+            .collect(),
+        None => Vec::new(),
+    };
+    let preset = Preset { threads, ..if quick { Preset::quick() } else { Preset::full() } };
     let extra = [Contender { name: "rayon".into(), scheduler: &Rayon }];
     let outcome = run(&preset, &extra, |line| eprintln!("{line}")).expect("the benchmark scenes render");
     let command =

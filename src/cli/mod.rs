@@ -60,8 +60,12 @@ pub enum Command {
     View(ViewArgs),
     /// List the built-in scenes.
     Scenes,
-    /// Measure every mode at 1…2×CPUs threads on the benchmark scenes; write tables and plots.
+    /// Measure every mode at 1…2×CPUs threads (or --threads) on the benchmark scenes; write
+    /// tables and plots.
     Bench {
+        /// Thread counts to measure, e.g. `--threads 1,2,4,8,16` [default: 1, 2, … 2 × CPUs].
+        #[arg(long, value_delimiter = ',', value_parser = crate::measure::grade::at_least_one, conflicts_with = "paper")]
+        threads: Vec<usize>,
         /// Small images and 3 runs, and the paper table at 2 spp (under 2 minutes on 2 cores),
         /// instead of the full preset.
         #[arg(long, conflicts_with = "paper")]
@@ -76,6 +80,21 @@ pub enum Command {
         /// Where to write speedup.md, speedup.csv and the plots.
         #[arg(long, default_value = "results", value_name = "DIR")]
         out_dir: PathBuf,
+    },
+    /// Grade a scheduler or a queue discipline as a course's grader does: the conformance
+    /// check, then workloads that each expose one weakness, timed against the reference in
+    /// the same run; prints the report and writes it to --out. (A student's own code is
+    /// graded by the starter's grade binary: examples/course.)
+    Grade {
+        /// The built-in mode to grade.
+        #[arg(long, required_unless_present = "discipline", conflicts_with = "discipline")]
+        mode: Option<Schedule>,
+        /// The built-in queue discipline to grade.
+        #[arg(long, value_parser = ["shared", "locked", "stealing"])]
+        discipline: Option<String>,
+        /// Thread counts, rounds, report file.
+        #[command(flatten)]
+        options: crate::measure::grade::Options,
     },
     /// Compare two PFM images: RMSE, relative MSE, mean absolute error, largest error, PSNR.
     Compare {
@@ -314,8 +333,8 @@ pub fn run(cli: Cli) -> Result<(), Error> {
             eprintln!("wrote {}/paper-table.md", out_dir.display());
             Ok(())
         }
-        Command::Bench { quick, out_dir, .. } => {
-            let preset = if quick { Preset::quick() } else { Preset::full() };
+        Command::Bench { quick, out_dir, threads, .. } => {
+            let preset = Preset { threads, ..if quick { Preset::quick() } else { Preset::full() } };
             let outcome = crate::measure::speedup::run(&preset, &[], |line| eprintln!("{line}"))?;
             let command = if quick { "raypool bench --quick" } else { "raypool bench" };
             write_reports(&out_dir, &preset, &outcome, command)?;
@@ -336,6 +355,27 @@ pub fn run(cli: Cli) -> Result<(), Error> {
                 eprintln!("wrote {}/paper-table.md (at {QUICK_PAPER_SPP} spp)", out_dir.display());
             }
             Ok(())
+        }
+        Command::Grade { mode, discipline, options } => {
+            use crate::measure::grade::{Entry, Submission, grade_and_report};
+            let submission = match (&mode, discipline.as_deref()) {
+                (Some(mode), _) => {
+                    Submission { name: format!("mode {}", mode.name()), entry: Entry::Scheduler(mode) }
+                }
+                (None, Some(name)) => {
+                    let discipline = match name {
+                        "locked" => pool::Discipline::Locked,
+                        "stealing" => pool::Discipline::Stealing,
+                        _ => pool::Discipline::Shared,
+                    };
+                    Submission { name: format!("discipline {name}"), entry: Entry::Queue(discipline.queue()) }
+                }
+                (None, None) => {
+                    return Err(Error::new("raypool grade: name a submission: --mode or --discipline"));
+                }
+            };
+            let command = std::env::args().collect::<Vec<_>>().join(" ");
+            grade_and_report(&submission, &options, &command).map(|_| ())
         }
         Command::Compare { image, reference, diff } => {
             let m = crate::measure::compare::compare_files(&image, &reference, diff.as_deref())?;

@@ -15,3 +15,4 @@ pub mod compare;
 pub mod stress;
 pub mod plot;
 pub mod machine;
+pub mod grade;

@@ -1,5 +1,5 @@
 //! The speedup benchmark behind `raypool bench` and `cargo bench --bench speedup`: every
-//! mode at 1, 2, …, 2 × cores threads on the benchmark scenes, medians of several runs, and
+//! mode at 1, 2, …, 2 × cores threads (or the list given) on the benchmark scenes, medians of several runs, and
 //! the seed paper's shared-`rand()` ablation. Writes `speedup.md`, `speedup.csv`,
 //! `speedup.png` and two timelines into the output directory.
 
@@ -34,6 +34,8 @@ pub struct Preset {
     pub scenes: Vec<(&'static str, u32)>,
     /// Scenes that also get the shared-generator rows.
     pub shared_rng_scenes: Vec<&'static str>,
+    /// Thread counts to measure; empty for 1, 2, … 2 × cores.
+    pub threads: Vec<usize>,
 }
 
 impl Preset {
@@ -51,7 +53,24 @@ impl Preset {
             runs: 7,
             scenes: vec![("final", 50), ("paper1", 10), ("paper2", 10), ("paper3", 10)],
             shared_rng_scenes: vec!["paper1", "final"],
+            threads: Vec::new(),
         }
+    }
+
+    /// The thread counts measured: [`Preset::threads`], or 1, 2, … 2 × cores.
+    ///
+    /// ```
+    /// use raypool::measure::speedup::Preset;
+    /// let preset = Preset { threads: vec![1, 4, 64], ..Preset::quick() };
+    /// assert_eq!(preset.thread_counts(), vec![1, 4, 64]);
+    /// assert_eq!(Preset::quick().thread_counts()[0], 1);
+    /// ```
+    pub fn thread_counts(&self) -> Vec<usize> {
+        if !self.threads.is_empty() {
+            return self.threads.clone();
+        }
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        (1..=2 * cores).collect()
     }
 }
 
@@ -107,7 +126,7 @@ impl Row {
 pub struct Outcome {
     /// All rows, scene by scene.
     pub rows: Vec<Row>,
-    /// `final`'s tile timelines at `cores` threads, by mode.
+    /// `final`'s tile timelines at the measured thread count nearest the cores, by mode.
     pub timelines: Vec<(String, Lanes)>,
     /// Thread counts measured.
     pub thread_counts: Vec<usize>,
@@ -206,7 +225,8 @@ fn configurations<'a>(
 /// `log` receives one line per measured configuration.
 pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> Result<Outcome, Error> {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let thread_counts: Vec<usize> = (1..=2 * cores).collect();
+    let thread_counts = preset.thread_counts();
+    let timeline_threads = thread_counts.iter().copied().min_by_key(|&t| t.abs_diff(cores)).unwrap_or(cores);
     let builtins: Vec<Contender> =
         Schedule::ALL[1..].iter().map(|s| Contender { name: s.name().to_owned(), scheduler: s }).collect();
     let mut rows = Vec::new();
@@ -263,7 +283,7 @@ pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> R
             rows.push(row);
             if scene_name == "final"
                 && !c.shared_rng
-                && c.threads == cores
+                && c.threads == timeline_threads
                 && ["static", "steal"].contains(&c.mode)
             {
                 timelines.push((c.mode.to_owned(), lanes(&last[k])));
