@@ -426,8 +426,8 @@ fn check_conformance(
     let mut checked: Vec<usize> = std::iter::once(1).chain(counts.iter().copied()).collect();
     checked.dedup();
     for &threads in &checked {
-        conformance::check(scheduler, threads).map_err(|e| format!("at {threads} threads: {e}"))?;
-        log(&format!("conformance: passed at {threads} threads"));
+        conformance::check(scheduler, threads).map_err(|e| format!("with frame.threads = {threads}: {e}"))?;
+        log(&format!("conformance: passed with frame.threads = {threads}"));
     }
     Ok(checked)
 }
@@ -497,4 +497,63 @@ pub fn grade_and_report(submission: &Submission, options: &Options, command: &st
     println!("{markdown}");
     eprintln!("report written to {}", options.out.display());
     Ok(report.conformance.is_ok())
+}
+
+/// The command line of a starter's grade binary (see [`main`]).
+#[derive(clap::Parser, Debug)]
+#[command(about = "Grade this crate's submissions: conformance, then workloads timed against the reference")]
+struct GradeCommand {
+    /// Grade only this part (by name) [default: every part]
+    #[arg(long)]
+    part: Option<String>,
+    /// Thread counts, rounds, report file.
+    #[command(flatten)]
+    options: Options,
+}
+
+/// The whole of a starter's grade binary: parses `--part`, `--threads`, `--rounds` and
+/// `--out`, grades each submission (or the one named), prints the reports and writes them,
+/// one after the other, to `--out`. Exit code 0 once graded (the score is in the report),
+/// 2 for a bad command line or an unwritable report.
+///
+/// ```no_run
+/// # struct MyScheduler;
+/// # impl raypool::Scheduler for MyScheduler {
+/// #     fn render(&self, f: &std::sync::Arc<raypool::Frame>) -> Vec<raypool::TileOutput> { unimplemented!() }
+/// # }
+/// use raypool::measure::grade::{Entry, Submission, main};
+/// fn main_of_grade_rs() -> std::process::ExitCode {
+///     main(&[Submission { name: "scheduler".into(), entry: Entry::Scheduler(&MyScheduler) }])
+/// }
+/// ```
+pub fn main(submissions: &[Submission]) -> std::process::ExitCode {
+    use clap::Parser as _;
+    let command = GradeCommand::parse();
+    let chosen: Vec<&Submission> =
+        submissions.iter().filter(|s| command.part.as_ref().is_none_or(|p| *p == s.name)).collect();
+    let names: Vec<&str> = submissions.iter().map(|s| s.name.as_str()).collect();
+    let outcome = if chosen.is_empty() {
+        Err(Error::new(format!("--part: no part named {:?} (parts: {})", command.part, names.join(", "))))
+    } else {
+        let line = std::env::args().collect::<Vec<_>>().join(" ");
+        chosen
+            .iter()
+            .map(|s| grade(s, &command.options, |l| eprintln!("{l}")).map(|r| r.markdown(&line)))
+            .collect::<Result<Vec<_>, _>>()
+            .and_then(|reports| {
+                let all = reports.join("\n");
+                println!("{all}");
+                write_text(&command.options.out, &all)
+            })
+    };
+    match outcome {
+        Ok(()) => {
+            eprintln!("report written to {}", command.options.out.display());
+            std::process::ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("grade: error: {e}");
+            std::process::ExitCode::from(e.exit_code())
+        }
+    }
 }

@@ -14,9 +14,13 @@
 //! threads, then lets them all go. A scheduler with that many threads rendering always gets
 //! there; one that renders on the calling thread, or lets each thread finish before the next
 //! starts, never does, and the check gives up after [`PATIENCE`] with a message that says so.
+//!
+//! A scheduler that never returns (a deadlock) cannot be stopped from outside; rather than
+//! hang a student's test run, the check then ends the process after [`DEADLINE`] with a
+//! message naming the thread count (exit code 101, as a failed test).
 
 use std::collections::HashSet;
-use std::sync::Arc;
+use std::sync::{Arc, mpsc};
 use std::thread::ThreadId;
 use std::time::{Duration, Instant};
 
@@ -33,6 +37,10 @@ use crate::tracer::sampler::PerSample;
 /// seconds leaves room for a machine that is busy with something else.
 pub const PATIENCE: Duration = Duration::from_secs(10);
 
+/// How long a scheduler may take to return from the check's render before the check ends
+/// the process (it takes milliseconds).
+pub const DEADLINE: Duration = Duration::from_secs(60);
+
 /// Checks `scheduler` on `threads` threads; the error says what went wrong, in words meant
 /// for the student who wrote it.
 ///
@@ -45,7 +53,9 @@ pub fn check(scheduler: &dyn Scheduler, threads: usize) -> Result<(), String> {
     let frame = test_frame(threads);
     let gate = Arc::new(Rendezvous::new(threads.min(frame.height() as usize)));
     let watched = Arc::new((*frame).clone().with_start_hook(gate.on_start()).with_tile_hook(gate.on_end()));
+    let watchdog = watchdog(threads);
     let tiles = scheduler.render(&watched);
+    drop(watchdog);
     let image = frame.assemble(&tiles)?;
     check_threads(&tiles, threads)?;
     if threads > 1 {
@@ -65,14 +75,30 @@ pub fn check(scheduler: &dyn Scheduler, threads: usize) -> Result<(), String> {
     }
 }
 
+/// Ends the process unless the returned sender is dropped within [`DEADLINE`].
+fn watchdog(threads: usize) -> mpsc::Sender<()> {
+    let (armed, disarmed) = mpsc::channel::<()>();
+    std::thread::spawn(move || {
+        if let Err(mpsc::RecvTimeoutError::Timeout) = disarmed.recv_timeout(DEADLINE) {
+            eprintln!(
+                "conformance check FAILED: waited {} s for the scheduler to return from a render on \
+                 {threads} threads: it never happened (a deadlock?)",
+                DEADLINE.as_secs()
+            );
+            std::process::exit(101);
+        }
+    });
+    armed
+}
+
 /// Rule 2: no more distinct rendering threads than the frame asked for.
 fn check_threads(tiles: &[TileOutput], threads: usize) -> Result<(), String> {
     let used: HashSet<ThreadId> = tiles.iter().filter_map(|t| Some(t.timing?.thread)).collect();
     if used.len() > threads {
         return Err(format!(
-            "tiles were rendered on {} different threads, but the frame asked for at most {threads} \
-             (frame.threads): start {threads} threads, or a pool of {threads} workers, and give \
-             each of them many tiles (not one thread per tile)",
+            "tiles were rendered on {} different threads, but the frame asked for at most \
+             frame.threads = {threads}: start that many threads (or a pool of that many workers) \
+             and give each of them many tiles, not one thread per tile",
             used.len()
         ));
     }

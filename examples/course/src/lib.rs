@@ -1,0 +1,12 @@
+//! Your two parts of the assignment:
+//!
+//! 1. [`scheduler::TileQueue`]: hand a frame's tiles to `frame.threads` threads through a
+//!    shared queue, so that a thread that finishes early takes more work.
+//! 2. [`discipline::StealHalf`]: a queue for raypool's thread pool where each worker has its
+//!    own deque and an idle worker steals *half* of another's.
+//!
+//! `cargo test --release` checks both (the same conformance checks the grader runs);
+//! `cargo run --release --bin grade` times them against raypool's own.
+
+pub mod discipline;
+pub mod scheduler;
