@@ -28,6 +28,11 @@ pub mod measure;
 pub mod cli;
 pub mod view;
 
+/// The README's Rust, compiled and run by `cargo test --doc`, so it cannot drift.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+mod readme {}
+
 pub use error::Error;
 pub use files::image::Image;
 pub use scenes::format::SceneFile;
