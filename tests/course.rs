@@ -84,7 +84,8 @@ fn options(threads: Vec<usize>) -> Options {
 #[test]
 fn the_grader_times_a_conforming_submission_on_every_workload_and_thread_count() {
     within("the grading of the solution to finish", || {
-        let submission = Submission { name: "solution".into(), entry: Entry::Scheduler(&solution::TileQueue) };
+        let submission =
+            Submission { name: "solution".into(), entry: Entry::Scheduler(&solution::TileQueue) };
         let report = grade(&submission, &options(vec![1, 2]), |_| {}).unwrap();
         assert_eq!(report.conformance, Ok(vec![1, 2]));
         let workloads: Vec<&str> = report.scores.iter().map(|s| s.workload).collect();
