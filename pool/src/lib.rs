@@ -29,6 +29,8 @@
 //! 8. `pool.rs`: building, submitting, dropping.
 //! 9. `sync.rs`: where the locks, atomics and threads come from, and how the loom model
 //!    checker swaps them; the models sit at the end of each protocol's file.
+//! 10. `conformance.rs`: the contract checked on any queue, including one written outside
+//!     this crate on the public [`JobQueue`] trait and given to [`Builder::queue`].
 //!
 //! # Checked, not hoped
 //!
