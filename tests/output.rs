@@ -66,3 +66,16 @@ fn out_of_range_values_clamp_instead_of_wrapping() {
     };
     assert_eq!(image.to_rgb8(), vec![0, 0, 0, 255, 255, 255, 0, 0, 0]);
 }
+
+#[test]
+fn exr_decodes_to_the_same_floats_as_the_pfm() {
+    let image = gradient(9, 4);
+    let (mut exr, mut pfm) = (Vec::new(), Vec::new());
+    encode(&image, Format::Exr, &mut exr).unwrap();
+    encode(&image, Format::Pfm, &mut pfm).unwrap();
+    assert!(exr.starts_with(&[0x76, 0x2f, 0x31, 0x01]), "OpenEXR's magic number");
+    let decoded = image::load_from_memory_with_format(&exr, image::ImageFormat::OpenExr).unwrap().to_rgb32f();
+    assert_eq!(decoded.dimensions(), (9, 4));
+    let (_, _, floats) = read_pfm(&pfm).unwrap();
+    assert_eq!(decoded.pixels().map(|p| p.0).collect::<Vec<_>>(), floats, "linear floats, top row first");
+}

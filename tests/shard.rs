@@ -281,3 +281,23 @@ fn a_shards_rows_and_tiles_cover_exactly_its_pixels() {
     }
     assert!(covered.iter().all(|&c| c == 1), "five shards cover every pixel once");
 }
+
+/// The EXR of a render, and of a merge, hold exactly the PFM's floats.
+#[test]
+fn exr_from_render_and_from_merge_round_trips_against_the_pfm() {
+    let dir = scratch("exr");
+    let (_, merged_pfm) = whole_and_merged(&dir, "three-spheres", 3, "8", &["steal"]);
+    let common = ["--scene", "three-spheres", "--width", "61", "--depth", "10", "--tile", "8", "--spp", "3"];
+    ok(raypool(&[&["render", "--out", "whole.exr"][..], &common].concat(), &dir));
+    ok(raypool(&["merge", "--out", "merged.exr", "part-0.rpart", "part-1.rpart", "part-2.rpart"], &dir));
+    let floats = |name: &str| {
+        let bytes = std::fs::read(dir.join(name)).unwrap();
+        let exr =
+            image::load_from_memory_with_format(&bytes, image::ImageFormat::OpenExr).unwrap().to_rgb32f();
+        exr.pixels().map(|p| p.0).collect::<Vec<[f32; 3]>>()
+    };
+    let (_, _, pfm) = raypool::files::output::read_pfm(&merged_pfm).unwrap();
+    assert_eq!(floats("whole.exr"), pfm, "render --out .exr");
+    assert_eq!(floats("merged.exr"), pfm, "merge --out .exr");
+    let _ = std::fs::remove_dir_all(&dir);
+}

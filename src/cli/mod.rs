@@ -41,14 +41,14 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Render a scene to an image (.png, .ppm or .pfm), or one shard of it (.rpart).
+    /// Render a scene to an image (.png, .ppm, .pfm or .exr), or one shard of it (.rpart).
     Render(RenderArgs),
     /// Merge the part files of a sharded render (`render --shard K/N`) into the image.
     Merge {
         /// Every part, shards 0 to N-1, in any order.
         #[arg(required = true, value_name = "PART")]
         parts: Vec<PathBuf>,
-        /// The image (.png, .ppm or .pfm), written only if the parts are complete and agree.
+        /// The image (.png, .ppm, .pfm or .exr), written only if the parts are complete and agree.
         #[arg(long, value_name = "FILE")]
         out: PathBuf,
     },
@@ -203,7 +203,7 @@ pub struct RenderArgs {
     /// into a part file (--out NAME.rpart) for `raypool merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<Shard>,
-    /// Output; the extension picks the format: .png, .ppm (P6), .pfm (linear float), or
+    /// Output; the extension picks the format: .png, .ppm (P6), .pfm or .exr (linear float), or
     /// .rpart (a part file of --shard, or of the whole image without it).
     #[arg(long, default_value = "render.png")]
     pub out: PathBuf,
@@ -519,7 +519,7 @@ fn merge_command(paths: &[PathBuf], out: &std::path::Path) -> Result<(), Error> 
     let output = PendingOutput::create(out)?;
     if output.format() == Format::Part {
         return Err(Error::new(format!(
-            "merge writes an image: name it .png, .ppm or .pfm (not '{}')",
+            "merge writes an image: name it .png, .ppm, .pfm or .exr (not '{}')",
             out.display()
         )));
     }

@@ -1,4 +1,5 @@
-//! Writing images: PNG and binary PPM (8-bit, gamma 2) and PFM (linear f32), atomically.
+//! Writing images: PNG and binary PPM (8-bit, gamma 2), and PFM and OpenEXR (linear f32),
+//! atomically.
 //!
 //! The output file is first created as a temporary file in the destination's directory and
 //! renamed over the destination only once complete, so a failed or interrupted run never
@@ -26,6 +27,8 @@ pub enum Format {
     Ppm,
     /// `.pfm`: linear 32-bit float RGB, no gamma (for measuring error).
     Pfm,
+    /// `.exr`: OpenEXR, linear 32-bit float RGB, no gamma (what HDR tools read).
+    Exr,
     /// `.rpart`: one shard of an image, to be merged (see [`crate::files::part`]).
     Part,
 }
@@ -38,9 +41,10 @@ impl Format {
             Some("png") => Ok(Format::Png),
             Some("ppm") => Ok(Format::Ppm),
             Some("pfm") => Ok(Format::Pfm),
+            Some("exr") => Ok(Format::Exr),
             Some("rpart") => Ok(Format::Part),
             _ => Err(Error::new(format!(
-                "cannot tell the image format of '{}': use a .png, .ppm, .pfm or .rpart file name",
+                "cannot tell the image format of '{}': use a .png, .ppm, .pfm, .exr or .rpart file name",
                 path.display()
             ))),
         }
@@ -146,6 +150,7 @@ pub fn encode(image: &Image, format: Format, out: &mut impl Write) -> Result<(),
             .write_image(&image.to_rgb8(), w, h, image::ExtendedColorType::Rgb8)
             .map_err(|e| e.to_string()),
         Format::Pfm => write_pfm(image, out).map_err(|e| io_reason(&e)),
+        Format::Exr => write_exr(image, out),
         Format::Part => Err("a .rpart file holds one shard of a render, not an image".to_string()),
     }
 }
@@ -162,6 +167,18 @@ fn write_pfm(image: &Image, out: &mut impl Write) -> std::io::Result<()> {
         }
     }
     Ok(())
+}
+
+/// OpenEXR through the `image` crate's encoder, which needs to seek: encoded in memory, then
+/// written out.
+fn write_exr(image: &Image, out: &mut impl Write) -> Result<(), String> {
+    let floats: Vec<u8> =
+        image.pixels.iter().flat_map(|p| p.to_array()).flat_map(|c| to_f32(c).to_ne_bytes()).collect();
+    let mut encoded = std::io::Cursor::new(Vec::new());
+    image::codecs::openexr::OpenExrEncoder::new(&mut encoded)
+        .write_image(&floats, image.width, image.height, image::ExtendedColorType::Rgb32F)
+        .map_err(|e| e.to_string())?;
+    out.write_all(encoded.get_ref()).map_err(|e| io_reason(&e))
 }
 
 /// Reads a PFM file written by any tool (either byte order) into linear RGB rows, top row
