@@ -10,6 +10,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 out=${OUT:-$(mktemp -d)}
 mkdir -p "$out"
+out=$(cd "$out" && pwd) # the steps below run in the copy
 threads=${THREADS:-1,2}
 work=$(mktemp -d)
 # The copy sits where the starter does, so that its path dependencies (../..) still resolve.
@@ -21,6 +22,11 @@ export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$repo/target/course}"
 cd "$copy"
 
 step() { echo "== $*" >&2; }
+grade() { # grade OUTFILE [ARGS…]: the copy's grader; its log is shown if it fails
+    local report=$1; shift
+    cargo run --release --quiet --bin grade -- --threads "$threads" --out "$report" "$@" \
+        >/dev/null 2>"$work/grade.log" || { cat "$work/grade.log" >&2; exit 1; }
+}
 tests_fail() {
     if cargo test --release --quiet >"$work/test.log" 2>&1; then
         echo "expected the tests to fail ($1), and they passed" >&2; exit 1
@@ -36,8 +42,8 @@ tests_fail "the skeleton's todo!()s"
 step "2. the solution"
 cp "$here/scheduler.rs" src/scheduler.rs
 cp "$here/discipline.rs" src/discipline.rs
-cargo test --release --quiet 2>&1 | tail -3 >&2
-cargo run --release --quiet --bin grade -- --threads "$threads" --out "$out/grade-solution.md" >/dev/null 2>"$work/grade.log"
+cargo test --release --quiet 2>&1 | grep "test result" | sed "s/^/   /" >&2
+grade "$out/grade-solution.md"
 grep -h "Score" "$out/grade-solution.md" | sed 's/^/   /' >&2
 
 step "3. the wrong schedulers"
@@ -45,8 +51,7 @@ for wrong in "$here"/wrong/*.rs; do
     name=$(basename "$wrong" .rs)
     cp "$wrong" src/scheduler.rs
     tests_fail "$name"
-    cargo run --release --quiet --bin grade -- --part scheduler --threads "$threads" \
-        --out "$out/grade-$name.md" >/dev/null 2>"$work/grade.log"
+    grade "$out/grade-$name.md" --part scheduler
     grep -h "Conformance\|Score" "$out/grade-$name.md" | sed 's/^/   /' >&2
 done
 echo "reports in $out" >&2
