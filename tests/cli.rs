@@ -293,3 +293,33 @@ fn an_interrupted_render_leaves_no_file_and_exits_130_or_143() {
         assert!(files_in(&dir).is_empty(), "SIG{signal} left {:?}", files_in(&dir));
     }
 }
+
+/// `raypool render …` run by `sh` under `ulimit -v 1500000` (1.5 GB of address space).
+fn render_under_memory_limit(dir: &Path, args: &str) -> Output {
+    let script = format!("ulimit -v 1500000 && exec '{}' render {args}", env!("CARGO_BIN_EXE_raypool"));
+    output_within(
+        Command::new("sh").args(["-c", &script]).current_dir(dir),
+        "a render under ulimit -v to exit",
+    )
+}
+
+#[test]
+fn a_render_too_big_for_the_memory_limit_is_refused_before_it_starts() {
+    let dir = scratch("memory");
+    for (args, advice) in [
+        ("--width 16384 --height 16384 --out big.png", "render fewer pixels (--width, --height)"),
+        ("--width 8192 --height 8192 --target-error 0.1 --out big.pfm", "without --target-error"),
+        ("--width 16384 --height 16384 --shard 1/4 --out big.rpart", "render fewer pixels"),
+    ] {
+        let out = render_under_memory_limit(&dir, args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{args}: one line: {stderr}");
+        assert!(stderr.contains("of memory, more than the") && stderr.contains("(ulimit -v)"), "{stderr}");
+        assert!(stderr.contains(advice), "{args}: {stderr}");
+        assert!(files_in(&dir).is_empty(), "{args}: nothing written, not even a temporary file");
+    }
+    let small = render_under_memory_limit(&dir, "--width 64 --spp 1 --out small.png");
+    assert!(small.status.success(), "a small render fits: {}", String::from_utf8_lossy(&small.stderr));
+    assert_eq!(files_in(&dir), ["small.png"]);
+}

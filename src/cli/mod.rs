@@ -3,6 +3,7 @@
 //! (130 or 143 when Ctrl-C or SIGTERM stopped a render: [`interrupt`]).
 
 pub mod interrupt;
+pub mod memory;
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -405,17 +406,21 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
     let scene = load_scene(image)?;
     let settings = render_settings(image, &scene, args.workers.rng)?;
     let threads = args.workers.threads.map_or_else(default_threads, |t| t as usize);
+    let shard = check_shard(args, Format::from_path(&args.out)?)?;
+    let pixels: usize =
+        shard.tiles(&Tile::grid(settings.width, settings.height, image.tile)).iter().map(Tile::area).sum();
+    let (width, height) = (settings.width, settings.height);
+    let adaptive = settings.adaptive.is_some();
+    let needed = memory::estimate(u64::from(width) * u64::from(height), pixels as u64, adaptive);
+    memory::check(needed, threads, &format!("a {width} × {height} render"), adaptive)?;
     let output = PendingOutput::create(&args.out)?; // fail fast, before the long part
     // From here on, Ctrl-C stops the render and removes the temporary file.
     let cancel = Cancel::default();
     let interrupt = Interrupt::watch(cancel.clone(), output.temp_path().to_owned())?;
-    let shard = check_shard(args, output.format())?;
     let rng = match args.workers.rng {
         RngChoice::PerSample => RngSource::streams(&settings),
         RngChoice::Shared => RngSource::Shared(Arc::new(SharedRng::new(settings.seed))),
     };
-    let pixels =
-        shard.tiles(&Tile::grid(settings.width, settings.height, image.tile)).iter().map(Tile::area).sum();
     let bar = progress_bar(pixels as u64);
     let progress = {
         let bar = bar.clone();
@@ -440,8 +445,8 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
         );
         (part.header.rays, part.header.samples) = (rendered.rays, rendered.samples);
         (part.header.seconds, part.header.host) = (seconds, crate::measure::machine::host());
-        output
-            .write_with(|out| std::io::Write::write_all(out, &part.to_bytes()).map_err(|e| e.to_string()))?;
+        drop(rendered.image); // the part holds the shard's pixels now
+        output.write_with(|out| part.write_to(out).map_err(|e| e.to_string()))?;
     } else {
         output.write(&rendered.image)?;
     }
