@@ -34,33 +34,56 @@ pub const DEADLINE: Duration = Duration::from_secs(30);
 /// }
 /// ```
 pub fn check(make: MakeQueue) -> Result<(), String> {
+    check_within(make, DEADLINE)
+}
+
+/// [`check`] with another deadline for each part (a test of a queue that is meant to fail
+/// need not wait 30 s).
+///
+/// ```
+/// use std::time::Duration;
+/// pool::conformance::check_within(pool::Discipline::Locked.queue(), Duration::from_secs(60)).unwrap();
+/// ```
+pub fn check_within(make: MakeQueue, deadline: Duration) -> Result<(), String> {
+    let within = |what: String, part| within(what, deadline, part);
     for workers in 1..=4 {
-        within(format!("a batch of 2,000 jobs on {workers} workers to return"), move || {
-            batches_return_in_order(make, workers)
-        })?;
+        within(
+            format!("a batch of 2,000 jobs on {workers} workers to return"),
+            Box::new(move || batches_return_in_order(make, workers)),
+        )?;
     }
-    within("20,000 jobs spawned from 4 threads to run".into(), move || spawned_jobs_all_run(make))?;
+    within(
+        "20,000 jobs spawned from 4 threads to run".into(),
+        Box::new(move || spawned_jobs_all_run(make, deadline)),
+    )?;
     for workers in [1, 2] {
-        within(format!("batches nested in jobs on {workers} worker(s) to return"), move || {
-            nested_batches_return(make, workers)
-        })?;
+        within(
+            format!("batches nested in jobs on {workers} worker(s) to return"),
+            Box::new(move || nested_batches_return(make, workers)),
+        )?;
     }
-    within("a dropped pool to run its 1,000 queued jobs and join".into(), move || drop_runs_queued(make))?;
-    within("an idle pool's check to finish".into(), move || idle_workers_sleep(make))?;
+    within(
+        "a dropped pool to run its 1,000 queued jobs and join".into(),
+        Box::new(move || drop_runs_queued(make)),
+    )?;
+    within("an idle pool's check to finish".into(), Box::new(move || idle_workers_sleep(make)))?;
     Ok(())
 }
 
-/// Runs `part` on its own thread and waits at most [`DEADLINE`] for it.
-fn within(what: String, part: impl FnOnce() -> Result<(), String> + Send + 'static) -> Result<(), String> {
+/// One part of the check.
+type Part = Box<dyn FnOnce() -> Result<(), String> + Send>;
+
+/// Runs `part` on its own thread and waits at most `deadline` for it.
+fn within(what: String, deadline: Duration, part: Part) -> Result<(), String> {
     let (done, finished) = mpsc::channel();
     std::thread::spawn(move || {
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(part))
             .unwrap_or_else(|_| Err("it panicked (see the message above)".into()));
         let _ = done.send(outcome);
     });
-    match finished.recv_timeout(DEADLINE) {
+    match finished.recv_timeout(deadline) {
         Ok(outcome) => outcome.map_err(|e| format!("{what}: {e}")),
-        Err(_) => Err(format!("waited {} s for {what}: it never happened", DEADLINE.as_secs())),
+        Err(_) => Err(format!("waited {} s for {what}: it never happened", deadline.as_secs_f64())),
     }
 }
 
@@ -87,7 +110,7 @@ fn batches_return_in_order(make: MakeQueue, workers: usize) -> Result<(), String
     }
 }
 
-fn spawned_jobs_all_run(make: MakeQueue) -> Result<(), String> {
+fn spawned_jobs_all_run(make: MakeQueue, deadline: Duration) -> Result<(), String> {
     let ran = Arc::new(AtomicUsize::new(0));
     let (tell, told) = mpsc::channel();
     let pool = pool(make, 3);
@@ -105,7 +128,7 @@ fn spawned_jobs_all_run(make: MakeQueue) -> Result<(), String> {
         }
     });
     for _ in 0..20_000 {
-        told.recv_timeout(DEADLINE).map_err(|_| {
+        told.recv_timeout(deadline / 2).map_err(|_| {
             format!("only {} of 20,000 spawned jobs ran: is a pushed job lost?", ran.load(Relaxed))
         })?;
     }

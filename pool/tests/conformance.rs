@@ -1,11 +1,13 @@
-//! The queue conformance check (`pool::conformance`): the built-in disciplines pass it, and a
-//! queue that spins while idle fails it with a reason.
+//! The queue conformance check (`pool::conformance`): the built-in disciplines pass it, and
+//! queues broken in one way each fail it with a reason naming that way.
 #![cfg(not(loom))] // a `--cfg loom` build runs the loom models only (see pool/src/sync.rs)
 
 mod common;
 
 use std::collections::VecDeque;
-use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+use std::sync::{Condvar, Mutex};
+use std::time::Duration;
 
 use common::within;
 use pool::{Discipline, Job, JobQueue, Popped};
@@ -54,4 +56,95 @@ fn a_queue_whose_idle_workers_spin_fails() {
         let error = pool::conformance::check(|_| Box::new(Spinning::default())).unwrap_err();
         assert!(error.contains("must sleep"), "{error}");
     });
+}
+
+/// One way to break a queue.
+#[derive(Clone, Copy, PartialEq)]
+enum Fault {
+    /// `push_batch` drops the last job of every batch.
+    LosesABatchJob,
+    /// `push` (a spawned job) drops every 100th job.
+    LosesSpawnedJobs,
+    /// `try_pop` never hands a waiting worker anything.
+    NeverHelps,
+    /// `wait_pop` returns `None` as soon as the queue is closed, jobs left or not.
+    QuitsOnClose,
+}
+
+/// A correct monitor queue, except for its fault.
+struct Faulty {
+    fault: Fault,
+    state: Mutex<(VecDeque<Job>, bool)>,
+    ready: Condvar,
+    pushes: AtomicUsize,
+}
+
+impl Faulty {
+    fn new(fault: Fault) -> Box<dyn JobQueue> {
+        Box::new(Faulty {
+            fault,
+            state: Mutex::default(),
+            ready: Condvar::new(),
+            pushes: AtomicUsize::new(0),
+        })
+    }
+}
+
+impl JobQueue for Faulty {
+    fn push(&self, job: Job, _me: Option<usize>) {
+        let n = self.pushes.fetch_add(1, Relaxed);
+        if self.fault == Fault::LosesSpawnedJobs && n % 100 == 99 {
+            return;
+        }
+        self.state.lock().unwrap().0.push_back(job);
+        self.ready.notify_one();
+    }
+    fn push_batch(&self, mut jobs: Vec<Job>, _me: Option<usize>) {
+        if self.fault == Fault::LosesABatchJob {
+            jobs.pop();
+        }
+        self.state.lock().unwrap().0.extend(jobs);
+        self.ready.notify_all();
+    }
+    fn try_pop(&self, _me: Option<usize>) -> Option<Popped> {
+        if self.fault == Fault::NeverHelps {
+            return None;
+        }
+        self.state.lock().unwrap().0.pop_front().map(|job| Popped { job, stolen: false })
+    }
+    fn wait_pop(&self, _me: usize) -> Option<Popped> {
+        let mut state = self.state.lock().unwrap();
+        loop {
+            if state.1 && self.fault == Fault::QuitsOnClose {
+                return None;
+            }
+            if let Some(job) = state.0.pop_front() {
+                return Some(Popped { job, stolen: false });
+            }
+            if state.1 {
+                return None;
+            }
+            state = self.ready.wait(state).unwrap();
+        }
+    }
+    fn close(&self) {
+        self.state.lock().unwrap().1 = true;
+        self.ready.notify_all();
+    }
+}
+
+#[test]
+fn each_broken_queue_fails_the_part_that_checks_what_it_breaks() {
+    let cases: [(pool::MakeQueue, &str); 4] = [
+        (|_| Faulty::new(Fault::LosesABatchJob), "for a batch of 2,000 jobs on 1 workers to return"),
+        (|_| Faulty::new(Fault::LosesSpawnedJobs), "of 20,000 spawned jobs ran: is a pushed job lost?"),
+        (|_| Faulty::new(Fault::NeverHelps), "for batches nested in jobs on 1 worker(s) to return"),
+        (|_| Faulty::new(Fault::QuitsOnClose), "of 1,000 queued jobs ran before drop returned"),
+    ];
+    for (make, expected) in cases {
+        within(format!("the check of a queue that should fail with '{expected}'"), move || {
+            let error = pool::conformance::check_within(make, Duration::from_secs(2)).unwrap_err();
+            assert!(error.contains(expected), "expected '{expected}' in: {error}");
+        });
+    }
 }
