@@ -80,7 +80,7 @@ struct Faulty {
 }
 
 impl Faulty {
-    fn new(fault: Fault) -> Box<dyn JobQueue> {
+    fn boxed(fault: Fault) -> Box<dyn JobQueue> {
         Box::new(Faulty {
             fault,
             state: Mutex::default(),
@@ -136,10 +136,10 @@ impl JobQueue for Faulty {
 #[test]
 fn each_broken_queue_fails_the_part_that_checks_what_it_breaks() {
     let cases: [(pool::MakeQueue, &str); 4] = [
-        (|_| Faulty::new(Fault::LosesABatchJob), "for a batch of 2,000 jobs on 1 workers to return"),
-        (|_| Faulty::new(Fault::LosesSpawnedJobs), "of 20,000 spawned jobs ran: is a pushed job lost?"),
-        (|_| Faulty::new(Fault::NeverHelps), "for batches nested in jobs on 1 worker(s) to return"),
-        (|_| Faulty::new(Fault::QuitsOnClose), "of 1,000 queued jobs ran before drop returned"),
+        (|_| Faulty::boxed(Fault::LosesABatchJob), "for a batch of 2,000 jobs on 1 workers to return"),
+        (|_| Faulty::boxed(Fault::LosesSpawnedJobs), "of 20,000 spawned jobs ran: is a pushed job lost?"),
+        (|_| Faulty::boxed(Fault::NeverHelps), "for batches nested in jobs on 1 worker(s) to return"),
+        (|_| Faulty::boxed(Fault::QuitsOnClose), "of 1,000 queued jobs ran before drop returned"),
     ];
     for (make, expected) in cases {
         within(format!("the check of a queue that should fail with '{expected}'"), move || {
