@@ -47,9 +47,10 @@ pub fn run(args: ViewArgs) -> Result<(), Error> {
     let _ = std::io::stdout().flush();
 
     let stop = Arc::new(AtomicBool::new(false));
-    let on_signal = Arc::clone(&stop);
-    ctrlc::set_handler(move || on_signal.store(true, Ordering::SeqCst))
-        .map_err(|e| Error::new(format!("cannot catch Ctrl-C: {e}")))?;
+    for signal in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register(signal, Arc::clone(&stop))
+            .map_err(|e| Error::new(format!("cannot catch Ctrl-C: {e}")))?;
+    }
     let session = Session::start(config);
     let origins = Origins::of(address);
     {
