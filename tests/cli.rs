@@ -143,7 +143,7 @@ fn bad_outputs_exit_2_and_leave_no_file() {
     let r =
         |out: &str, needle: &str| assert_rejected(&dir, &["render", "--width", "8", "--out", out], needle);
     r("picture.jpg", "picture.jpg");
-    r("picture", ".png, .ppm, .pfm or .rpart");
+    r("picture", ".png, .ppm, .pfm, .exr or .rpart");
     r("no/such/dir/x.png", "no/such/dir/x.png");
     std::fs::create_dir(dir.join("taken.png")).unwrap();
     let before = files_in(&dir);

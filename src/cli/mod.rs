@@ -1,6 +1,7 @@
-//! **The command line**: `raypool render | merge | simulate | scenes | scene | bench | compare`.
-//! Every failure is an [`Error`] that `main` prints on one line before exiting with code 2
-//! (130 or 143 when Ctrl-C or SIGTERM stopped a render: [`interrupt`]).
+//! **The command line**: `raypool render | merge | simulate | scenes | scene | bench | grade |
+//! compare`. Every failure is an [`Error`] that `main` prints on one line before exiting with
+//! code 2 (130 or 143 when Ctrl-C or SIGTERM stopped a render: [`interrupt`]); a render too big
+//! for the memory this process may use is refused before it starts ([`memory`]).
 
 pub mod interrupt;
 pub mod memory;
@@ -376,7 +377,7 @@ pub fn run(cli: Cli) -> Result<(), Error> {
                 }
             };
             let command = std::env::args().collect::<Vec<_>>().join(" ");
-            grade_and_report(&submission, &options, &command).map(|_| ())
+            grade_and_report(&[&submission], &options, &command)
         }
         Command::Compare { image, reference, diff } => {
             let m = crate::measure::compare::compare_files(&image, &reference, diff.as_deref())?;

@@ -427,6 +427,7 @@ fn check_conformance(
         log("conformance: the queue keeps the pool's contract");
     }
     let mut checked: Vec<usize> = std::iter::once(1).chain(counts.iter().copied()).collect();
+    checked.sort_unstable();
     checked.dedup();
     for &threads in &checked {
         conformance::check(scheduler, threads).map_err(|e| format!("with frame.threads = {threads}: {e}"))?;
@@ -491,15 +492,19 @@ fn same_image(frame: &Frame, submission: &[TileOutput], reference: &[TileOutput]
     }
 }
 
-/// Grades, prints the report, writes it to `options.out`: the body of `raypool grade` and
-/// of a starter's grade binary. `Ok(false)` when the submission failed conformance.
-pub fn grade_and_report(submission: &Submission, options: &Options, command: &str) -> Result<bool, Error> {
-    let report = grade(submission, options, |line| eprintln!("{line}"))?;
-    let markdown = report.markdown(command);
-    write_text(&options.out, &markdown)?;
-    println!("{markdown}");
+/// Grades each submission, prints the reports and writes them, one after the other, to
+/// `options.out`: the body of `raypool grade` and of a starter's grade binary ([`main`]).
+/// `command` is the command line, quoted in the reports.
+pub fn grade_and_report(submissions: &[&Submission], options: &Options, command: &str) -> Result<(), Error> {
+    let reports = submissions
+        .iter()
+        .map(|s| grade(s, options, |line| eprintln!("{line}")).map(|r| r.markdown(command)))
+        .collect::<Result<Vec<_>, _>>()?;
+    let all = reports.join("\n");
+    write_text(&options.out, &all)?;
+    println!("{all}");
     eprintln!("report written to {}", options.out.display());
-    Ok(report.conformance.is_ok())
+    Ok(())
 }
 
 /// The command line of a starter's grade binary (see [`main`]).
@@ -539,21 +544,10 @@ pub fn main(submissions: &[Submission]) -> std::process::ExitCode {
         Err(Error::new(format!("--part: no part named {:?} (parts: {})", command.part, names.join(", "))))
     } else {
         let line = std::env::args().collect::<Vec<_>>().join(" ");
-        chosen
-            .iter()
-            .map(|s| grade(s, &command.options, |l| eprintln!("{l}")).map(|r| r.markdown(&line)))
-            .collect::<Result<Vec<_>, _>>()
-            .and_then(|reports| {
-                let all = reports.join("\n");
-                println!("{all}");
-                write_text(&command.options.out, &all)
-            })
+        grade_and_report(&chosen, &command.options, &line)
     };
     match outcome {
-        Ok(()) => {
-            eprintln!("report written to {}", command.options.out.display());
-            std::process::ExitCode::SUCCESS
-        }
+        Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("grade: error: {e}");
             std::process::ExitCode::from(e.exit_code())

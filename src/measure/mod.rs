@@ -1,7 +1,8 @@
 //! **Measurement**: the speedup benchmark, the scaling model that predicts it past this
 //! machine's cores, error against a reference and its convergence with
-//! samples, the numerical stress cases, the plots, and the machine label that every committed
-//! figure carries.
+//! samples, the numerical stress cases, the plots, the machine label that every committed
+//! figure carries, and the course's grader (conformance, then workloads timed against the
+//! reference; its scenes are in `workloads/`).
 //!
 //! It may use every layer below: [`crate::tracer`], [`crate::scenes`], [`crate::files`],
 //! [`crate::schedule`] and [`crate::error`]. Only the command line and the `benches/` use it.
