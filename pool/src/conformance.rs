@@ -66,7 +66,12 @@ pub fn check_within(make: MakeQueue, deadline: Duration) -> Result<(), String> {
         "a dropped pool to run its 1,000 queued jobs and join".into(),
         Box::new(move || drop_runs_queued(make)),
     )?;
-    within("an idle pool's check to finish".into(), Box::new(move || idle_workers_sleep(make)))?;
+    within(
+        "4 jobs that wait for each other to run on 4 workers at once (every idle worker must be able \
+         to take a queued job), then the idle pool's CPU time to be read"
+            .into(),
+        Box::new(move || idle_workers_sleep(make)),
+    )?;
     Ok(())
 }
 
