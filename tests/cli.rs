@@ -135,6 +135,12 @@ fn bad_flags_exit_2_with_one_line() {
     r(&["--target-error", "0.1", "--min-spp", "64", "--max-spp", "8"], "--min-spp 64 is above --max-spp 8");
     assert_rejected(&dir, &["scene", "nosuch"], "unknown scene");
     assert_rejected(&dir, &["paint"], "paint");
+    assert_rejected(&dir, &["bench", "--threads", "1,0"], "'0' is not a count of at least 1");
+    assert_rejected(&dir, &["bench", "--threads", "2", "--paper"], "--paper");
+    assert_rejected(&dir, &["grade", "--threads", "2"], "--mode");
+    assert_rejected(&dir, &["grade", "--mode", "steal", "--discipline", "locked"], "--discipline");
+    assert_rejected(&dir, &["grade", "--discipline", "lifo"], "lifo");
+    assert_rejected(&dir, &["grade", "--mode", "steal", "--threads", "two"], "'two' is not a count");
 }
 
 #[test]
@@ -322,4 +328,22 @@ fn a_render_too_big_for_the_memory_limit_is_refused_before_it_starts() {
     let small = render_under_memory_limit(&dir, "--width 64 --spp 1 --out small.png");
     assert!(small.status.success(), "a small render fits: {}", String::from_utf8_lossy(&small.stderr));
     assert_eq!(files_in(&dir), ["small.png"]);
+}
+
+#[test]
+fn grade_writes_its_report_and_prints_it() {
+    let dir = scratch("grade");
+    let out = raypool(
+        &["grade", "--mode", "interleaved", "--threads", "2", "--rounds", "1", "--out", "g.md"],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let report = std::fs::read_to_string(dir.join("g.md")).unwrap();
+    assert_eq!(String::from_utf8_lossy(&out.stdout).trim_end(), report.trim_end(), "printed as written");
+    assert!(report.starts_with("# Grade: mode interleaved") && report.contains("Machine: nproc"), "{report}");
+    assert!(report.contains("Conformance: **passed** at [1, 2] threads"), "{report}");
+    for workload in ["balanced", "one-band", "heavy-tail", "tiny-tiles", "many-frames"] {
+        assert!(report.contains(&format!("| {workload} |")), "{workload} missing: {report}");
+    }
+    assert_eq!(files_in(&dir), ["g.md"], "no temporary file left over");
 }
