@@ -41,7 +41,7 @@ use crate::measure::speedup::median;
 use crate::scenes::format::SceneFile;
 use crate::schedule::conformance;
 use crate::schedule::frame::{Frame, RngSource};
-use crate::schedule::modes::{Schedule, Scheduler};
+use crate::schedule::modes::{Schedule, Scheduler, tiles_on};
 use crate::tracer::render::{RenderJob, RenderSettings, TileOutput, default_height};
 
 /// A workload at most this many times slower than the reference earns its full point.
@@ -243,20 +243,12 @@ impl Scheduler for OnQueue {
         let pool = self.pool(frame.threads);
         let tiles = frame.tiles();
         if !self.nested {
-            return pool.batch(tiles.into_iter().map(|tile| {
-                let frame = Arc::clone(frame);
-                move || frame.render(tile)
-            }));
+            return tiles_on(&pool, frame, tiles);
         }
         let bands: Vec<Vec<_>> = tiles.chunk_by(|a, b| a.y == b.y).map(<[_]>::to_vec).collect();
         let bands = pool.batch(bands.into_iter().map(|band| {
             let (frame, pool) = (Arc::clone(frame), Arc::clone(&pool));
-            move || {
-                pool.batch(band.into_iter().map(|tile| {
-                    let frame = Arc::clone(&frame);
-                    move || frame.render(tile)
-                }))
-            }
+            move || tiles_on(&pool, &frame, band)
         }));
         bands.into_iter().flatten().collect()
     }

@@ -136,6 +136,20 @@ fn on_scoped_threads(frame: &Frame, assignment: Vec<Vec<Tile>>) -> Vec<TileOutpu
 /// Dynamic scheduling: one job per tile on a pool of `frame.threads` workers.
 fn on_pool(frame: &Arc<Frame>, discipline: Discipline, tiles: Vec<Tile>) -> Vec<TileOutput> {
     let pool = ThreadPool::new(frame.threads, discipline).expect("a pool of at least one worker starts");
+    tiles_on(&pool, frame, tiles)
+}
+
+/// Renders `tiles` of `frame` as one batch on `pool`, a job per tile (also from inside a job
+/// of `pool`: a nested batch).
+///
+/// ```
+/// use raypool::schedule::{conformance::test_frame, modes::tiles_on};
+/// let pool = pool::ThreadPool::new(2, pool::Discipline::Locked).unwrap();
+/// let frame = test_frame(2);
+/// let rendered = tiles_on(&pool, &frame, frame.tiles());
+/// assert_eq!(rendered.len(), frame.tiles().len());
+/// ```
+pub fn tiles_on(pool: &ThreadPool, frame: &Arc<Frame>, tiles: Vec<Tile>) -> Vec<TileOutput> {
     pool.batch(tiles.into_iter().map(|tile| {
         let frame = Arc::clone(frame);
         move || frame.render(tile)
