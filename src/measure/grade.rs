@@ -17,7 +17,7 @@
 //! | `many-frames` | per-frame overhead: 160 small frames in a row (threads or a pool started per frame) |
 //! | `nested` (queues only) | the waiting rule: bands as jobs, each waiting on a batch of its tiles |
 //!
-//! Each workload takes 0.15–0.5 s on one thread of this project's 2-CPU machine: long enough
+//! Each workload takes 0.1–0.5 s on one thread of this project's 2-CPU machine: long enough
 //! that a round's ratio is not noise, short enough that grading at 1, 2 and 4 threads with 5
 //! rounds takes about half a minute.
 //!
