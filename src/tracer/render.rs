@@ -16,6 +16,7 @@ use crate::tracer::ray::Ray;
 use crate::tracer::real::{Real, Vec3, from_dvec3, to_dvec3};
 use crate::tracer::sampler::{RandomStreams, SampleRng, Sampler, uniform};
 use crate::tracer::scene::Scene;
+use crate::tracer::sphere::Hit;
 use crate::tracer::tile::Tile;
 
 /// Largest accepted image side, pixels (the command line and every other entry point check it).
@@ -155,8 +156,20 @@ impl RenderJob {
 
 /// Renders every pixel of `tile`, drawing each sample's random numbers from `streams`.
 pub fn render_tile<S: RandomStreams>(job: &RenderJob, streams: &S, tile: Tile) -> TileOutput {
+    render_tile_with(job, streams, tile, |ray| job.scene.hit(ray, Real::INFINITY))
+}
+
+/// [`render_tile`], with each ray's closest hit found by `closest_hit` instead of the scene's
+/// own search: how `cargo bench --bench embree` traces the same paths over another library's
+/// hierarchy. Materials, background and camera are still the job's.
+pub fn render_tile_with<S: RandomStreams>(
+    job: &RenderJob,
+    streams: &S,
+    tile: Tile,
+    closest_hit: impl Fn(&Ray) -> Option<Hit>,
+) -> TileOutput {
     let mut sums = PixelSums::new(tile.area());
-    let rays = accumulate_tile(job, streams, tile, |_, _| 0..job.settings.spp, &mut sums);
+    let rays = accumulate(job, streams, tile, |_, _| 0..job.settings.spp, &mut sums, closest_hit);
     TileOutput { tile, pixels: sums.means(), rays, samples: sums.samples(), timing: None }
 }
 
@@ -213,6 +226,18 @@ pub fn accumulate_tile<S: RandomStreams>(
     samples: impl Fn(u32, u32) -> std::ops::Range<u32>,
     sums: &mut PixelSums,
 ) -> u64 {
+    accumulate(job, streams, tile, samples, sums, |ray| job.scene.hit(ray, Real::INFINITY))
+}
+
+/// [`accumulate_tile`] with the closest-hit search passed in (the scene's, or another's).
+fn accumulate<S: RandomStreams>(
+    job: &RenderJob,
+    streams: &S,
+    tile: Tile,
+    samples: impl Fn(u32, u32) -> std::ops::Range<u32>,
+    sums: &mut PixelSums,
+    closest_hit: impl Fn(&Ray) -> Option<Hit>,
+) -> u64 {
     assert_eq!(sums.sums.len(), tile.area(), "one running sum per pixel of the tile");
     let width = job.settings.width as u64;
     let mut rays = 0;
@@ -223,7 +248,8 @@ pub fn accumulate_tile<S: RandomStreams>(
         for sample in samples(i, j) {
             let mut rng = streams.stream(pixel, sample as u64);
             let ray = job.camera.ray(i, j, &mut rng);
-            let value = to_dvec3(trace(&job.scene, ray, &job.settings, &mut rng, &mut rays));
+            let value =
+                to_dvec3(trace_with(&job.scene, &closest_hit, ray, &job.settings, &mut rng, &mut rays));
             sums.sums[k] += value;
             if sample % 2 == 1 {
                 sums.odd[k] += value;
@@ -239,6 +265,19 @@ pub fn accumulate_tile<S: RandomStreams>(
 /// the number of rays cast to `rays`.
 pub fn trace<R: SampleRng + ?Sized>(
     scene: &Scene,
+    ray: Ray,
+    settings: &RenderSettings,
+    rng: &mut R,
+    rays: &mut u64,
+) -> Vec3 {
+    trace_with(scene, &|ray: &Ray| scene.hit(ray, Real::INFINITY), ray, settings, rng, rays)
+}
+
+/// [`trace`], with each closest hit found by `closest_hit`.
+#[inline(always)]
+fn trace_with<R: SampleRng + ?Sized>(
+    scene: &Scene,
+    closest_hit: &impl Fn(&Ray) -> Option<Hit>,
     mut ray: Ray,
     settings: &RenderSettings,
     rng: &mut R,
@@ -247,7 +286,7 @@ pub fn trace<R: SampleRng + ?Sized>(
     let mut throughput = Vec3::ONE;
     for cast in 1..=settings.max_depth {
         *rays += 1;
-        let Some(hit) = scene.hit(&ray, Real::INFINITY) else {
+        let Some(hit) = closest_hit(&ray) else {
             return throughput * scene.background.radiance(ray.dir);
         };
         rng.bounce(cast - 1);
