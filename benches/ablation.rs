@@ -10,7 +10,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use raypool::files::image::Image;
-use raypool::measure::machine::Machine;
+use raypool::measure::machine::{Machine, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Schedule, render};
@@ -189,7 +189,7 @@ fn main() {
             largest_difference(&m.image, &reference.image),
         );
     }
-    let path = if quick { "target/ablation-quick.md" } else { "results/ablation.md" };
-    std::fs::write(path, &md).expect("the output directory is writable");
-    println!("{md}\nwrote {path}");
+    let path = results_dir().join("ablation.md");
+    std::fs::write(&path, &md).expect("the output directory is writable");
+    println!("{md}\nwrote {}", path.display());
 }

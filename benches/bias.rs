@@ -1,6 +1,6 @@
 //! `cargo bench --bench bias`: is every sampling method's mean image the true one? Issue #11's
 //! check with more seeds than a test can afford (`tests/render.rs` runs the same comparison
-//! at 24 seeds). Writes `results/bias.md`.
+//! at 24 seeds). Writes `results/bias.md`; `-- --quick` takes a quarter of the seeds.
 //!
 //! 1. **Against a converged reference**, the setting in which the old adaptive rule was found
 //!    biased (`results/adaptive.md`): `paper1`, 48 × 32, depth 20, 400 seeds, whole-image mean
@@ -14,7 +14,7 @@ use std::sync::Arc;
 
 use raypool::files::image::Image;
 use raypool::measure::convergence::Reference;
-use raypool::measure::machine::Machine;
+use raypool::measure::machine::{Machine, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Schedule, render};
@@ -60,9 +60,11 @@ fn main() {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let scene_of = |name: &str| builtin_scene(name, DEFAULT_SCENE_SEED).expect("built-in").to_scene();
     let mut md = String::from("# Bias: every sampling method's mean image\n\n");
+    // `--quick` (for `benches/all.sh --quick`): a quarter of the seeds and of the reference.
+    let quick = std::env::args().any(|a| a == "--quick");
 
     // 1. Against a converged reference.
-    let (seeds, reference_spp) = (400, 8192);
+    let (seeds, reference_spp) = if quick { (100, 2048) } else { (400, 8192) };
     let base = RenderSettings { width: 48, height: 32, spp: 64, max_depth: 20, ..Default::default() };
     let scene = scene_of("paper1");
     let reference = Reference::render(&scene, base, reference_spp, threads);
@@ -95,7 +97,7 @@ fn main() {
     }
 
     // 2. Paired with independent uniform sampling.
-    let seeds = 256;
+    let seeds = if quick { 64 } else { 256 };
     let base = RenderSettings { width: 32, height: 21, spp: 16, max_depth: 50, ..Default::default() };
     let _ = write!(
         md,
@@ -132,7 +134,8 @@ fn main() {
             );
         }
     }
-    let _ = writeln!(md, "\n`cargo bench --bench bias`; {}", Machine::current().describe());
-    std::fs::write("results/bias.md", &md).expect("results/ is writable");
+    let command = if quick { "cargo bench --bench bias -- --quick" } else { "cargo bench --bench bias" };
+    let _ = writeln!(md, "\n`{command}`; {}", Machine::current().describe());
+    std::fs::write(results_dir().join("bias.md"), &md).expect("the output directory is writable");
     println!("{md}");
 }

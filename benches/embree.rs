@@ -13,17 +13,18 @@
 //! raypool's, next to how far two raypool images of different seeds are apart (the noise).
 //! Where they disagree the bench fails rather than report a speed.
 //!
-//! Needs Debian's `libembree-dev` (Embree 3). Writes `results/embree.md` (or `--out FILE`).
+//! Needs Debian's `libembree-dev` (Embree 3). Writes `results/embree.md` (or `$RAYPOOL_RESULTS/embree.md`, or `--out FILE`).
 //! `--quick`: 300 × 200 at 4 spp, 5 rounds; by default 600 × 400 at 16 spp, 7 rounds.
 
 #[path = "embree/library.rs"]
 mod library;
 
+use std::path::PathBuf;
 use std::time::Instant;
 
 use library::{EmbreeSpheres, Variant};
 use raypool::measure::compare::metrics;
-use raypool::measure::machine::Machine;
+use raypool::measure::machine::{Machine, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::tracer::ray::Ray;
 use raypool::tracer::real::{Real, to_f32};
@@ -70,15 +71,15 @@ struct Options {
     spp: u32,
     rounds: usize,
     quick: bool,
-    out: String,
+    out: PathBuf,
 }
 
 fn options() -> Options {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let quick = args.iter().any(|a| a == "--quick");
-    let out = args.iter().position(|a| a == "--out").and_then(|i| args.get(i + 1).cloned());
+    let out = args.iter().position(|a| a == "--out").and_then(|i| args.get(i + 1).map(PathBuf::from));
     let (width, height, spp, rounds) = if quick { (300, 200, 4, 5) } else { (600, 400, 16, 7) };
-    Options { width, height, spp, rounds, quick, out: out.unwrap_or_else(|| "results/embree.md".into()) }
+    Options { width, height, spp, rounds, quick, out: out.unwrap_or_else(|| results_dir().join("embree.md")) }
 }
 
 fn main() {
@@ -164,7 +165,9 @@ fn main() {
          below it and within 1% of raypool's ray count, or the bench fails instead of writing this.\n\
          Embree's sphere primitive computes its own hit distance (then raypool's hit record\n\
          re-projects the point), so a few paths part ways where the two distances round apart;\n\
-         with raypool's sphere test the hits are raypool's own.\n",
+         with raypool's sphere test the distances are raypool's own, and only a grazing hit or a\n\
+         tie that the two trees decide differently (Embree keeps the first of equal distances,\n\
+         raypool the lower sphere index) can part a path.\n",
         w = options.width,
         h = options.height,
         spp = options.spp,
@@ -174,7 +177,7 @@ fn main() {
         quick = if options.quick { " -- --quick" } else { "" },
         noise = noise.rmse,
     );
-    std::fs::write(&options.out, &report).unwrap_or_else(|e| panic!("cannot write {}: {e}", options.out));
+    std::fs::write(&options.out, &report).unwrap_or_else(|e| panic!("cannot write {}: {e}", options.out.display()));
     print!("{report}");
 }
 

@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 use raypool::files::image::Image;
 use raypool::files::output::{Format, encode, read_pfm};
 use raypool::measure::convergence::{Reference, log_log_fit, timed_render};
-use raypool::measure::machine::Machine;
+use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::plot::{LogSeries, log_log_plot};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::tracer::real::{Real, vec3};
@@ -72,8 +72,7 @@ fn main() {
     } else {
         Config { width: 160, reference_spp_each: 2048, max_spp: 256, min_spp: 16 }
     };
-    let out_dir = PathBuf::from(if quick { "target/error-quick" } else { "results" });
-    std::fs::create_dir_all(&out_dir).expect("the output directory can be made");
+    let out_dir = results_dir();
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let mut rows = Vec::new();
     let mut references = String::new();

@@ -9,7 +9,7 @@ use criterion::Criterion;
 use pool::{Discipline, ThreadPool};
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
-use raypool::measure::machine::Machine;
+use raypool::measure::machine::{Machine, results_dir};
 
 /// Empty jobs per batch in the overhead benchmark.
 const JOBS: usize = 100_000;
@@ -33,8 +33,7 @@ fn main() {
         ("sorted, longest last", uneven_batch(workers, &sorted)),
     ];
     let report = report(workers, &uneven);
-    std::fs::create_dir_all("results").expect("results/ is writable");
-    std::fs::write("results/pool.md", &report).expect("results/pool.md is writable");
+    std::fs::write(results_dir().join("pool.md"), &report).expect("the output directory is writable");
     println!("\n{report}");
 }
 

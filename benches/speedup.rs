@@ -6,6 +6,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use rayon::prelude::*;
+use raypool::measure::machine::results_dir;
 use raypool::measure::speedup::{Contender, Preset, run, write_reports};
 use raypool::schedule::frame::Frame;
 use raypool::schedule::modes::Scheduler;
@@ -46,6 +47,7 @@ fn main() {
     let outcome = run(&preset, &extra, |line| eprintln!("{line}")).expect("the benchmark scenes render");
     let command =
         if quick { "cargo bench --bench speedup -- --quick" } else { "cargo bench --bench speedup" };
-    write_reports(Path::new("results"), &preset, &outcome, command).expect("results/ is writable");
-    println!("{}", std::fs::read_to_string("results/speedup.md").unwrap_or_default());
+    let dir = results_dir();
+    write_reports(&dir, &preset, &outcome, command).expect("the output directory is writable");
+    println!("{}", std::fs::read_to_string(dir.join("speedup.md")).unwrap_or_default());
 }

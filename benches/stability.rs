@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use raypool::measure::machine::Machine;
+use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::stress::cases;
 use raypool::tracer::sphere::Intersection;
 
@@ -28,7 +28,7 @@ fn main() {
             eprintln!("{} {PRECISION} {method}: {o:?}", case.name);
         }
     }
-    let dir = Path::new("results");
+    let dir = &results_dir();
     std::fs::write(dir.join(format!("stability-{PRECISION}.csv")), &csv).expect("results/ is writable");
 
     let rows: Vec<Vec<String>> = ["f32", "f64"]

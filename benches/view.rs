@@ -13,7 +13,7 @@ use std::time::Duration;
 
 use common::browser::{Browser, chromium};
 use common::viewer::Viewer;
-use raypool::measure::machine::Machine;
+use raypool::measure::machine::{Machine, results_dir};
 
 const MOVES: usize = 25;
 
@@ -52,7 +52,7 @@ fn main() {
     // The screenshot: a fresh render a few passes in, outlines and timeline showing.
     page.eval("orbit(0.3, 0.05, 0.9); true");
     page.wait_for("+document.body.dataset.spp >= 32", Duration::from_secs(60));
-    std::fs::write("results/view.png", page.screenshot()).expect("write results/view.png");
+    std::fs::write(results_dir().join("view.png"), page.screenshot()).expect("write view.png");
 
     let quantile = |v: &[f64], q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
     let machine = Machine::current();
@@ -80,7 +80,7 @@ fn main() {
         quantile(&rates, 0.9),
         rates[0],
     );
-    std::fs::write("results/view.md", &report).expect("write results/view.md");
+    std::fs::write(results_dir().join("view.md"), &report).expect("write view.md");
     print!("{report}");
 }
 

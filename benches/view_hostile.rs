@@ -1,4 +1,4 @@
-//! `cargo bench --bench view_hostile`: the viewer under hostile traffic for 60 s (loopback only),
+//! `cargo bench --bench view_hostile`: the viewer under hostile traffic for 60 s (`-- --quick`: 15 s; loopback only),
 //! then the worst cancels. Writes `results/view-hostile.md`: requests sent by kind, answers by
 //! status, the `/state` probes, peak threads and memory, and each cancel's `POST` → 202 time.
 //! `tests/view.rs` runs the same traffic for 20 s and asserts on it.
@@ -11,17 +11,20 @@ use std::time::Duration;
 
 use common::hostile;
 use common::viewer::Viewer;
-use raypool::measure::machine::Machine;
+use raypool::measure::machine::{Machine, results_dir};
 
 fn main() {
-    let seconds = 60;
+    // `--quick` (for `benches/all.sh --quick`): 15 s of traffic.
+    let quick = std::env::args().any(|a| a == "--quick");
+    let seconds = if quick { 15 } else { 60 };
     let viewer = Viewer::start(&["--scene", "final", "--width", "400", "--spp", "100000", "--threads", "2"]);
     let report = hostile::run(&viewer, Duration::from_secs(seconds), 7);
     let mut md = String::new();
     let _ = writeln!(md, "# The viewer under hostile traffic\n");
     let _ = writeln!(
         md,
-        "Command: `cargo bench --bench view_hostile` · {} · `raypool view --scene final --width 400 --spp 100000 --threads 2` · traffic for {:.1} s, loopback only (`tests/common/hostile.rs`)\n",
+        "Command: `cargo bench --bench view_hostile{}` · {} · `raypool view --scene final --width 400 --spp 100000 --threads 2` · traffic for {:.1} s, loopback only (`tests/common/hostile.rs`)\n",
+        if quick { " -- --quick" } else { "" },
         Machine::current().describe(),
         report.ran.as_secs_f64()
     );
@@ -64,7 +67,6 @@ fn main() {
     }
     let slowest = report.cancels.iter().map(|(_, t)| *t).max().unwrap_or_default();
     let _ = writeln!(md, "\nSlowest cancel: **{:.1} ms**.", slowest.as_secs_f64() * 1e3);
-    std::fs::create_dir_all("results").expect("results/ is writable");
-    std::fs::write("results/view-hostile.md", &md).expect("results/view-hostile.md is writable");
+    std::fs::write(results_dir().join("view-hostile.md"), &md).expect("the output directory is writable");
     println!("{md}");
 }

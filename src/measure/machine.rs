@@ -1,6 +1,27 @@
 //! Which machine, commit and day a measurement was made on: every committed figure says so.
 
+use std::path::PathBuf;
 use std::process::Command;
+
+/// The environment variable that moves every benchmark's output away from `results/`
+/// (`benches/all.sh --out-dir DIR` sets it), so a reader can regenerate the tables beside the
+/// committed ones and compare.
+pub const RESULTS_ENV: &str = "RAYPOOL_RESULTS";
+
+/// Where benchmarks write their tables and plots: `$RAYPOOL_RESULTS` if set, else `results`
+/// (relative to the repository root, where `cargo bench` runs), created if missing.
+///
+/// ```
+/// // Without the variable, the committed folder.
+/// if std::env::var_os(raypool::measure::machine::RESULTS_ENV).is_none() {
+///     assert_eq!(raypool::measure::machine::results_dir(), std::path::Path::new("results"));
+/// }
+/// ```
+pub fn results_dir() -> PathBuf {
+    let dir = std::env::var_os(RESULTS_ENV).map_or_else(|| PathBuf::from("results"), PathBuf::from);
+    let _ = std::fs::create_dir_all(&dir);
+    dir
+}
 
 /// A description of where and when a benchmark ran.
 #[derive(Clone, Debug, PartialEq, Eq)]
