@@ -76,23 +76,11 @@ skip() {
     steps+=("$1|skipped: $2|–|")
 }
 
-# The full-size render of the README's picture, and its summary line in final.md.
-fullsize() {
-    local spp=$(q 50 500)
-    local flags=(--scene final --width 1200 --spp "$spp" --depth 50 --sampler independent)
-    "$raypool" render "${flags[@]}" --out "$out/final.png" 2>&1 | tee "$out/logs/final-summary.txt"
-    {
-        echo "# The README's picture: \`final\` at the book's full settings"
-        echo
-        echo "Command: \`raypool render ${flags[*]} --out final.png\` (all CPUs) · $machine"
-        echo
-        echo "Its summary line: \`$(tail -1 "$out/logs/final-summary.txt")\`"
-    } >"$out/final.md"
-}
 
 echo "benches/all.sh$(q ' --quick' '') → $out"
 echo "machine: $machine"
-run build "" bash -c "cargo build --release ${features[*]} && cargo bench --no-run ${features[*]}"
+# One build of every benchmark; it builds target/release/raypool too (benchmarks may run it).
+run build "" cargo bench --no-run "${features[@]}"
 run pool "pool.md" cargo bench --bench pool "${features[@]}" $bench_quick
 run speedup "speedup.{md,csv,png}, timeline-*.png" cargo bench --bench speedup "${features[@]}" $bench_quick
 run paper-table "paper-table.md" "$raypool" bench --paper --spp "$(q 5 50)" --out-dir "$out"
@@ -104,7 +92,16 @@ else
 fi
 run scaling "scaling.{md,csv,png}" "$raypool" simulate --scene final --width "$(q 400 1200)" --spp 8 --depth 50 \
     --measure --runs "$(q 3 5)" --report "$out"
-run fullsize "final.{png,md}" fullsize
+# The README's picture at the book's full settings (default sampler and mode, all CPUs).
+fullsize=(--scene final --width 1200 --spp "$(q 50 500)" --depth 50)
+run fullsize "final.{png,md}" "$raypool" render "${fullsize[@]}" --out "$out/final.png"
+{
+    echo "# The README's picture: \`final\` at the book's full settings"
+    echo
+    echo "Command: \`raypool render ${fullsize[*]} --out final.png\` · $machine"
+    echo
+    echo "Its summary line: \`$(tail -1 "$out/logs/fullsize.log")\`"
+} >"$out/final.md"
 run bias "bias.md" cargo bench --bench bias "${features[@]}" $bench_quick
 if [ -z "$chromium_missing" ]; then
     run view "view.{md,png}" cargo bench --bench view "${features[@]}"
