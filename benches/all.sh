@@ -11,7 +11,7 @@
 # command, wall time and files; each step's own output goes to DIR/logs/STEP.log.
 #
 # --quick: smaller images, fewer samples, rounds and seeds (each file says so in its command
-# line); about ten minutes on this project's 2-core machine. Without it, about an hour there.
+# line); about ten minutes on this project's 2-core machine. Without it, 45 minutes there.
 # A step whose system package is missing (Chromium for the viewer, libembree-dev for Embree)
 # is skipped and listed as skipped; every other failure stops the run.
 set -euo pipefail
@@ -113,8 +113,13 @@ fi
 run error "error.{md,png}, error-f32.csv" cargo bench --bench error "${features[@]}" $bench_quick
 run stability "stability.md, stability-f32.csv" cargo bench --bench stability "${features[@]}"
 # The f64 builds last (one rebuild): each writes its precision's CSV, and the table reads both.
+# They also leave an f64 build at target/release/raypool, so every step that runs the binary
+# comes before them; the build step above put the f32 one there (cargo relinks it even when
+# nothing is rebuilt), and the end of this script puts it back.
 run error-f64 "error.{md,png}, error-f64.csv" cargo bench --bench error --features f64 $bench_quick
 run stability-f64 "stability.md, stability-f64.csv" cargo bench --bench stability --features f64
+
+cargo bench --no-run "${features[@]}" >/dev/null 2>&1 # target/release/raypool: f32 again
 
 {
     echo "# Every figure the README cites, regenerated"

@@ -177,7 +177,8 @@ fn main() {
         quick = if options.quick { " -- --quick" } else { "" },
         noise = noise.rmse,
     );
-    std::fs::write(&options.out, &report).unwrap_or_else(|e| panic!("cannot write {}: {e}", options.out.display()));
+    std::fs::write(&options.out, &report)
+        .unwrap_or_else(|e| panic!("cannot write {}: {e}", options.out.display()));
     print!("{report}");
 }
 
