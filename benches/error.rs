@@ -13,7 +13,7 @@
 //! `--features f64` to compare the precisions. `--quick`: small images, for a smoke test.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use raypool::files::image::Image;
 use raypool::files::output::{Format, encode, read_pfm};

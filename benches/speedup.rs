@@ -2,7 +2,6 @@
 //! rayon baseline that the `raypool bench` command cannot have (rayon is only a
 //! dev-dependency). Writes `results/speedup.{md,csv,png}` and `results/timeline-*.png`.
 
-use std::path::Path;
 use std::sync::Arc;
 
 use rayon::prelude::*;

@@ -4,7 +4,6 @@
 //! with `--features f64`) and `results/stability.md` from whichever of the two exist.
 
 use std::fmt::Write as _;
-use std::path::Path;
 
 use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::stress::cases;
