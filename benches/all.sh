@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Every table and plot the README cites, regenerated on this machine in one run.
+# Every benchmark table and plot the README cites, regenerated on this machine in one run (the
+# records of one-off investigations it also cites are not: all.md lists them).
 #
 #   benches/all.sh [--quick] [--out-dir DIR]
 #
@@ -122,7 +123,7 @@ run stability-f64 "stability.md, stability-f64.csv" cargo bench --bench stabilit
 cargo bench --no-run "${features[@]}" >/dev/null 2>&1 # target/release/raypool: f32 again
 
 {
-    echo "# Every figure the README cites, regenerated"
+    echo "# The README's benchmark figures, regenerated"
     echo
     echo "Command: \`benches/all.sh$(q ' --quick' '')\` · $machine · $((SECONDS - total_start)) s in all."
     echo
