@@ -23,12 +23,14 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use library::{EmbreeSpheres, Variant};
+use raypool::files::image::Image;
 use raypool::measure::compare::metrics;
 use raypool::measure::machine::{Machine, results_dir};
+use raypool::measure::speedup::median;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::tracer::ray::Ray;
 use raypool::tracer::real::{Real, to_f32};
-use raypool::tracer::render::{RenderJob, RenderSettings, render_tile_with};
+use raypool::tracer::render::{RenderJob, RenderSettings, TileOutput, render_tile_with};
 use raypool::tracer::sampler::PerSample;
 use raypool::tracer::sphere::Hit;
 use raypool::tracer::tile::Tile;
@@ -44,25 +46,20 @@ struct Rendered {
 fn render(job: &RenderJob, closest_hit: impl Fn(&Ray) -> Option<Hit> + Copy) -> Rendered {
     let (width, height) = (job.settings.width, job.settings.height);
     let streams = PerSample { seed: job.settings.seed };
-    let mut pixels = vec![[0.0; 3]; (width * height) as usize];
-    let mut rays = 0;
     let start = Instant::now();
-    for tile in Tile::grid(width, height, 16) {
-        let out = render_tile_with(job, &streams, tile, closest_hit);
-        rays += out.rays;
-        for (k, value) in out.pixels.iter().enumerate() {
-            let (i, j) = (tile.x + k as u32 % tile.width, tile.y + k as u32 / tile.width);
-            pixels[(j * width + i) as usize] = [to_f32(value.x), to_f32(value.y), to_f32(value.z)];
-        }
-    }
-    Rendered { pixels, rays, seconds: start.elapsed().as_secs_f64() }
+    let tiles: Vec<TileOutput> = Tile::grid(width, height, 16)
+        .into_iter()
+        .map(|tile| render_tile_with(job, &streams, tile, closest_hit))
+        .collect();
+    let seconds = start.elapsed().as_secs_f64();
+    let image = Image::from_tiles(width, height, &tiles).expect("the grid covers the image once");
+    let pixels = image.pixels.iter().map(|p| [to_f32(p.x), to_f32(p.y), to_f32(p.z)]).collect();
+    Rendered { pixels, rays: tiles.iter().map(|t| t.rays).sum(), seconds }
 }
 
-fn median(values: &[f64]) -> f64 {
-    let mut sorted = values.to_vec();
-    sorted.sort_by(f64::total_cmp);
-    let n = sorted.len();
-    (sorted[(n - 1) / 2] + sorted[n / 2]) / 2.0
+/// The median of `values` (`speedup::median` sorts its argument: a copy here).
+fn median_of(values: &[f64]) -> f64 {
+    median(&mut values.to_vec())
 }
 
 struct Options {
@@ -143,9 +140,9 @@ fn main() {
         table += &format!(
             "| {name} | {} | {:.2} | {:.2} | **{:.2}** | {} | {:.1e} |\n",
             runs.join(", "),
-            median(&seconds[k]),
-            last[k].rays as f64 / median(&seconds[k]) / 1e6,
-            median(&ratios),
+            median_of(&seconds[k]),
+            last[k].rays as f64 / median_of(&seconds[k]) / 1e6,
+            median_of(&ratios),
             last[k].rays,
             error.rmse,
         );
