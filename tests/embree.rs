@@ -42,8 +42,8 @@ fn embree_finds_the_hits_raypool_finds() {
         let ray_ratio = theirs.rays as f64 / ours.rays as f64;
         match variant {
             // raypool's own sphere test under Embree's tree: the same hits, so the same bits.
-            // (Not always: at 600 × 400 × 16 spp, 30 of 10.4 M rays part ways, at ties and
-            // grazing hits the two trees decide differently; none in this image.)
+            // (Not always: at 600 × 400 × 16 spp the ray counts differ by 30 in 10.4 M, most
+            // likely at ties and grazing hits the two trees decide differently; none here.)
             Variant::EmbreeTree => assert!(
                 theirs.pixels == ours.pixels && theirs.rays == ours.rays,
                 "{}: {} rays against raypool's {}, image RMSE {rmse:.2e}: not the same hits",
