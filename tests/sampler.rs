@@ -14,7 +14,9 @@ use raypool::scenes::builtin::builtin_scene;
 use raypool::schedule::modes::render;
 use raypool::tracer::real::Real;
 use raypool::tracer::render::{RenderSettings, render_tile};
-use raypool::tracer::sampler::{PerSample, RandomStreams, SOBOL_SAMPLES, Sampler, SobolStreams, uniform};
+use raypool::tracer::sampler::{
+    PerSample, PixelStreams, RandomStreams, SOBOL_SAMPLES, SampleRng, Sampler, SobolStreams, uniform,
+};
 use raypool::{Frame, RenderJob, RngSource, Schedule, Tile};
 
 fn sobol(settings: RenderSettings) -> RenderSettings {
@@ -110,12 +112,12 @@ fn past_the_sequence_samples_draw_independent_numbers() {
     let streams = SobolStreams::new(3);
     // Inside the sequence: the first draw of 2^k consecutive samples is stratified.
     let mut strata: Vec<usize> =
-        (0..64).map(|s| (uniform(&mut streams.stream(5, s)) * 64.0) as usize).collect();
+        (0..64).map(|s| (uniform(&mut streams.pixel(5).stream(s)) * 64.0) as usize).collect();
     strata.sort_unstable();
     assert_eq!(strata, (0..64).collect::<Vec<_>>());
     // Past it: the same numbers as the independent sampler's stream for that sample.
-    let (mut past, mut plain) =
-        (streams.stream(5, SOBOL_SAMPLES + 9), PerSample { seed: 3 }.stream(5, SOBOL_SAMPLES + 9));
+    let (pixel, plain_pixel) = (streams.pixel(5), PerSample { seed: 3 }.pixel(5));
+    let (mut past, mut plain) = (pixel.stream(SOBOL_SAMPLES + 9), plain_pixel.stream(SOBOL_SAMPLES + 9));
     for _ in 0..10 {
         assert_eq!(uniform(&mut past), uniform(&mut plain));
     }
@@ -135,15 +137,45 @@ fn past_the_sequence_samples_draw_independent_numbers() {
 }
 
 #[test]
+fn a_pixels_kept_keys_draw_what_fresh_ones_draw() {
+    // A pixel keeps its first dimension sets' keys for its later samples. Every number a
+    // sample draws must be the same whether its pixel served other samples first (in any
+    // order, to any depth) or was made for it alone: deep paths reach sets past those kept.
+    let draws = |stream: &mut dyn FnMut() -> Real, bounce: &mut dyn FnMut(u32)| -> Vec<Real> {
+        let mut numbers: Vec<Real> = (0..4).map(|_| stream()).collect();
+        for b in 0..20 {
+            bounce(b);
+            numbers.extend((0..3).map(|_| stream()));
+        }
+        numbers
+    };
+    for streams_seed in [1, 9] {
+        let streams = SobolStreams::new(streams_seed);
+        let shared = streams.pixel(31);
+        for sample in [5, 0, 17, 5, SOBOL_SAMPLES + 2, 3] {
+            let fresh_pixel = streams.pixel(31);
+            let mut drawn = Vec::new();
+            for pixel in [&shared, &fresh_pixel] {
+                let stream = std::cell::RefCell::new(pixel.stream(sample));
+                drawn.push(draws(&mut || uniform(&mut *stream.borrow_mut()), &mut |b| {
+                    stream.borrow_mut().bounce(b)
+                }));
+            }
+            assert_eq!(drawn[0], drawn[1], "sample {sample}: a kept key differs from a fresh one");
+        }
+    }
+}
+
+#[test]
 fn two_bounces_share_a_set_and_extra_draws_are_independent() {
-    use raypool::tracer::sampler::SampleRng;
     let streams = SobolStreams::new(4);
     // Over 16 samples of a pixel, bounce 0's first number and bounce 1's first number (the
     // set's dimensions 0 and 2) each fill the sixteen strata: both are Sobol dimensions.
     let firsts = |bounce: u32| {
         let mut strata: Vec<usize> = (0..16)
             .map(|s| {
-                let mut stream = streams.stream(7, s);
+                let pixel = streams.pixel(7);
+                let mut stream = pixel.stream(s);
                 (0..=bounce).for_each(|b| stream.bounce(b));
                 (uniform(&mut stream) * 16.0) as usize
             })
@@ -155,14 +187,15 @@ fn two_bounces_share_a_set_and_extra_draws_are_independent() {
     assert_eq!(firsts(1), (0..16).collect::<Vec<_>>());
     // A third draw in one bounce (Russian roulette after a direction) is past the bounce's two
     // dimensions: the independent stream's first number for that sample.
-    let mut stream = streams.stream(7, 3);
+    let pixel = streams.pixel(7);
+    let mut stream = pixel.stream(3);
     stream.bounce(0);
     let (a, b) = (uniform(&mut stream), uniform(&mut stream));
     assert_ne!(a, b);
     // (In the f64 build each Sobol draw also took 32 low bits from that independent stream,
     // so its third number is a later one of the same stream.)
     if size_of::<Real>() == size_of::<f32>() {
-        assert_eq!(uniform(&mut stream), uniform(&mut PerSample { seed: 4 }.stream(7, 3)));
+        assert_eq!(uniform(&mut stream), uniform(&mut PerSample { seed: 4 }.pixel(7).stream(3)));
     }
 }
 

@@ -11,7 +11,7 @@ use raypool::measure::stress::{StressCase, cases};
 use raypool::scenes::builtin::builtin_scene;
 use raypool::tracer::real::to_dvec3;
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
-use raypool::tracer::sampler::{PerSample, RandomStreams};
+use raypool::tracer::sampler::{PerSample, PerSamplePixel, PixelStreams, RandomStreams};
 use raypool::tracer::sphere::Intersection;
 use raypool::tracer::tile::Tile;
 
@@ -111,10 +111,24 @@ struct From {
 }
 
 impl RandomStreams for From {
-    type Stream<'a> = <PerSample as RandomStreams>::Stream<'a>;
+    type Pixel<'a> = FromPixel;
 
-    fn stream(&self, pixel: u64, sample: u64) -> Self::Stream<'_> {
-        self.streams.stream(pixel, self.first + sample)
+    fn pixel(&self, pixel: u64) -> FromPixel {
+        FromPixel { pixel: self.streams.pixel(pixel), first: self.first }
+    }
+}
+
+/// One pixel of [`From`].
+struct FromPixel {
+    pixel: PerSamplePixel,
+    first: u64,
+}
+
+impl PixelStreams for FromPixel {
+    type Stream<'a> = <PerSamplePixel as PixelStreams>::Stream<'a>;
+
+    fn stream(&self, sample: u64) -> Self::Stream<'_> {
+        self.pixel.stream(self.first + sample)
     }
 }
 

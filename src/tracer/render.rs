@@ -14,7 +14,7 @@ use crate::error::Error;
 use crate::tracer::camera::Camera;
 use crate::tracer::ray::Ray;
 use crate::tracer::real::{Real, Vec3, from_dvec3, to_dvec3};
-use crate::tracer::sampler::{RandomStreams, SampleRng, Sampler, uniform};
+use crate::tracer::sampler::{PixelStreams, RandomStreams, SampleRng, Sampler, uniform};
 use crate::tracer::scene::Scene;
 use crate::tracer::sphere::Hit;
 use crate::tracer::tile::Tile;
@@ -244,9 +244,9 @@ fn accumulate<S: RandomStreams>(
     let pixels =
         (tile.y..tile.y + tile.height).flat_map(|j| (tile.x..tile.x + tile.width).map(move |i| (i, j)));
     for (k, (i, j)) in pixels.enumerate() {
-        let pixel = j as u64 * width + i as u64;
+        let pixel_streams = streams.pixel(j as u64 * width + i as u64);
         for sample in samples(i, j) {
-            let mut rng = streams.stream(pixel, sample as u64);
+            let mut rng = pixel_streams.stream(sample as u64);
             let ray = job.camera.ray(i, j, &mut rng);
             let value = to_dvec3(trace(&job.scene, &closest_hit, ray, &job.settings, &mut rng, &mut rays));
             sums.sums[k] += value;

@@ -12,6 +12,7 @@
 //! Hash-based Owen Scrambling"), scrambled per pixel and indexed by the sample number, so a
 //! pixel's samples fill each 4-dimensional use evenly instead of by chance.
 
+use std::cell::Cell;
 use std::sync::Arc;
 
 use rand::rngs::SmallRng;
@@ -59,13 +60,35 @@ impl SampleRng for SplitMix64 {}
 ///
 /// [`PerSample`] and [`SobolStreams`] are the renderer's real sources. The trait also lets an
 /// ablation (the paper's single shared `rand()`) be plugged into the same render loop.
+///
+/// It has two levels because a pixel's samples share work: the render loop asks once per pixel
+/// for its [`PixelStreams`] (for Sobol, the scramble keys of the pixel's dimension sets), then
+/// for one stream per sample. What a stream draws still depends only on `(seed, pixel, sample)`.
+///
+/// ```
+/// use raypool::tracer::sampler::{PerSample, PixelStreams, RandomStreams, uniform};
+/// let streams = PerSample { seed: 1 };
+/// let pixel = streams.pixel(42);
+/// // The same sample of the same pixel draws the same numbers, however it is reached.
+/// assert_eq!(uniform(&mut pixel.stream(3)), uniform(&mut streams.pixel(42).stream(3)));
+/// ```
 pub trait RandomStreams: Sync {
+    /// What the samples of one pixel share.
+    type Pixel<'a>: PixelStreams
+    where
+        Self: 'a;
+    /// The streams of pixel `pixel` (row-major index).
+    fn pixel(&self, pixel: u64) -> Self::Pixel<'_>;
+}
+
+/// The random streams of one pixel's samples (see [`RandomStreams`]).
+pub trait PixelStreams {
     /// The generator type handed to one pixel sample.
     type Stream<'a>: SampleRng
     where
         Self: 'a;
-    /// The stream for sample `sample` of pixel `pixel` (row-major index).
-    fn stream(&self, pixel: u64, sample: u64) -> Self::Stream<'_>;
+    /// The stream of sample `sample` of this pixel.
+    fn stream(&self, sample: u64) -> Self::Stream<'_>;
 }
 
 /// Independent streams seeded from `(seed, pixel, sample)`: deterministic under any schedule.
@@ -76,6 +99,20 @@ pub struct PerSample {
 }
 
 impl RandomStreams for PerSample {
+    type Pixel<'a> = PerSamplePixel;
+
+    fn pixel(&self, pixel: u64) -> PerSamplePixel {
+        PerSamplePixel { key: mix(mix(self.seed) ^ pixel) }
+    }
+}
+
+/// One pixel's independent streams: the render seed and the pixel, already mixed.
+#[derive(Clone, Copy, Debug)]
+pub struct PerSamplePixel {
+    key: u64,
+}
+
+impl PixelStreams for PerSamplePixel {
     type Stream<'a> = SplitMix64;
 
     /// Chains the three keys through a strong 64-bit mixer, so that neighbouring pixels and
@@ -85,8 +122,8 @@ impl RandomStreams for PerSample {
     /// state for every sample; a sample draws about ten numbers, each one mix either way.
     /// Two samples' streams overlap only if their start points are within a few draws of
     /// each other on SplitMix64's one cycle of 2⁶⁴: for hashed start points, never in practice.
-    fn stream(&self, pixel: u64, sample: u64) -> SplitMix64 {
-        SplitMix64::seed_from_u64(mix(mix(mix(self.seed) ^ pixel) ^ sample))
+    fn stream(&self, sample: u64) -> SplitMix64 {
+        SplitMix64::seed_from_u64(mix(self.key ^ sample))
     }
 }
 
@@ -106,10 +143,10 @@ impl RandomStreams for PerSample {
 /// draw count and any spp work.
 ///
 /// ```
-/// use raypool::tracer::sampler::{RandomStreams, SobolStreams, uniform};
+/// use raypool::tracer::sampler::{PixelStreams, RandomStreams, SobolStreams, uniform};
 /// let streams = SobolStreams::new(1);
 /// // The first 16 samples of a pixel put exactly one jitter x in each sixteenth of [0, 1).
-/// let mut strata: Vec<usize> = (0..16).map(|s| (uniform(&mut streams.stream(42, s)) * 16.0) as usize).collect();
+/// let mut strata: Vec<usize> = (0..16).map(|s| (uniform(&mut streams.pixel(42).stream(s)) * 16.0) as usize).collect();
 /// strata.sort();
 /// assert_eq!(strata, (0..16).collect::<Vec<_>>());
 /// ```
@@ -139,38 +176,107 @@ impl SobolStreams {
     /// assert_eq!(streams.sample_4d(5, 77), sobol_burley::sample_4d(5, 0, 77));
     /// ```
     pub fn sample_4d(&self, index: u32, scramble: u32) -> [f32; 4] {
-        self.table.sample_4d(index, scramble)
+        let bits = self.table.sample_4d(index.reverse_bits(), &SetKeys::new(scramble));
+        // The crate's `to_f32_norm`: the top 23 bits, exactly.
+        bits.map(|x| (x >> 9) as f32 * (1.0 / (1u32 << 23) as f32))
     }
 }
 
 impl RandomStreams for SobolStreams {
-    type Stream<'a> = SobolStream<'a>;
+    type Pixel<'a> = SobolPixel<'a>;
 
-    fn stream(&self, pixel: u64, sample: u64) -> SobolStream<'_> {
-        let pixel_seed = mix(mix(self.seed ^ 0x536F_626F_6C00_0000) ^ pixel);
-        let index = (sample < SOBOL_SAMPLES).then_some(sample as u32);
-        let fallback = Fallback { streams: PerSample { seed: self.seed }, pixel, sample, rng: None };
-        let mut stream = SobolStream {
+    fn pixel(&self, pixel: u64) -> SobolPixel<'_> {
+        SobolPixel {
             table: &self.table,
-            index,
-            pixel_seed,
-            set: [0.0; 4],
+            seed: mix(mix(self.seed ^ 0x536F_626F_6C00_0000) ^ pixel),
+            fallback: PerSample { seed: self.seed }.pixel(pixel),
+            keys: Default::default(),
+        }
+    }
+}
+
+/// How many of a pixel's dimension sets keep their keys for the pixel's next samples: the
+/// camera's and those of bounces 0 to 5, more than almost every path uses.
+const KEPT_SETS: usize = 4;
+
+/// One pixel's Sobol streams: its scramble seed and, made the first time a sample needs them,
+/// the keys of its first dimension sets, which every later sample of the pixel reuses. A key
+/// is a hash of the pixel and the set, not of the sample: made once per pixel instead of once
+/// per sample, it leaves a set only the work that depends on the sample's index.
+#[derive(Debug)]
+pub struct SobolPixel<'a> {
+    table: &'a SobolTable,
+    seed: u64,
+    fallback: PerSamplePixel,
+    keys: [Cell<Option<SetKeys>>; KEPT_SETS],
+}
+
+impl SobolPixel<'_> {
+    /// The keys of dimension set `set`, kept from an earlier sample if it is one of the first.
+    #[inline]
+    fn keys(&self, set: u32) -> SetKeys {
+        let make = || SetKeys::new(mix(self.seed ^ u64::from(set)) as u32);
+        match self.keys.get(set as usize) {
+            Some(kept) => kept.get().unwrap_or_else(|| {
+                let keys = make();
+                kept.set(Some(keys));
+                keys
+            }),
+            None => make(),
+        }
+    }
+}
+
+impl PixelStreams for SobolPixel<'_> {
+    type Stream<'a>
+        = SobolStream<'a>
+    where
+        Self: 'a;
+
+    #[inline]
+    fn stream(&self, sample: u64) -> SobolStream<'_> {
+        let index_rev = (sample < SOBOL_SAMPLES).then(|| (sample as u32).reverse_bits());
+        let mut stream = SobolStream {
+            pixel: self,
+            index_rev,
+            set: [0; 4],
             loaded: u32::MAX,
             next: 0,
             end: 0,
-            fallback,
+            fallback: Fallback { sample, rng: None },
         };
         stream.use_dimensions(0, 0..4);
         stream
     }
 }
 
-/// `sobol_burley::sample_4d(index, 0, seed)`, the same bits, with the Sobol matrix product by
-/// table. The crate multiplies the (shuffled, bit-reversed) index by the generator matrices
-/// one set bit at a time, a loop of up to 16 rounds whose exit the CPU mispredicts; the product
-/// is linear over XOR, so it is the XOR of the products of the index's two bytes, 256 of each
-/// kept here (8 KiB, made once per render from the crate's own `parts::sobol_int4_rev`).
-/// The scrambles around it are the crate's `parts`, composed as `sample_4d` composes them
+/// The scramble keys of one dimension set: the index shuffle's and each dimension's. They are
+/// `sobol_burley::sample_4d`'s own, derived from its `seed` as it derives them.
+#[derive(Clone, Copy, Debug)]
+struct SetKeys {
+    shuffle: u32,
+    dimensions: [u32; 4],
+}
+
+impl SetKeys {
+    /// The keys `sample_4d(_, 0, seed)` uses (its seed multiplier and per-dimension offsets
+    /// for dimension set 0), so the bits match the crate's.
+    fn new(seed: u32) -> SetKeys {
+        let dimension_seed = seed.wrapping_mul(0x9c8f_2d3b);
+        let offsets = [0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8];
+        SetKeys {
+            shuffle: parts::hash(seed ^ 0x79c6_8e4a),
+            dimensions: offsets.map(|offset| parts::hash(dimension_seed ^ offset)),
+        }
+    }
+}
+
+/// `sobol_burley::sample_4d`, the same bits, with the Sobol matrix product by table. The crate
+/// multiplies the (shuffled, bit-reversed) index by the generator matrices one set bit at a
+/// time, a loop of up to 16 rounds whose exit the CPU mispredicts; the product is linear over
+/// XOR, so it is the XOR of the products of the index's two bytes, 256 of each kept here
+/// (8 KiB, made once per render from the crate's own `parts::sobol_int4_rev`). The scrambles
+/// around it are the crate's `parts`, composed as `sample_4d` composes them
 /// (`tests/sampler.rs` checks its outputs against the crate's).
 #[derive(Debug)]
 struct SobolTable {
@@ -190,36 +296,31 @@ impl SobolTable {
         SobolTable { bytes }
     }
 
-    /// The constants are `sample_4d`'s own (its index-shuffle offset, seed multiplier and
-    /// per-dimension scramble offsets for dimension set 0), so the bits match.
+    /// The four dimensions of the point of bit-reversed index `index_rev`, scrambled by `keys`,
+    /// as 32-bit fractions.
     #[inline]
-    fn sample_4d(&self, index: u32, seed: u32) -> [f32; 4] {
-        let shuffled = parts::owen_scramble_rev(index.reverse_bits(), parts::hash(seed ^ 0x79c6_8e4a));
+    fn sample_4d(&self, index_rev: u32, keys: &SetKeys) -> [u32; 4] {
+        let shuffled = parts::owen_scramble_rev(index_rev, keys.shuffle);
         let [high, low] = [(shuffled >> 24) as usize, (shuffled >> 16 & 0xff) as usize];
         // The four lanes' scrambles one lane at a time: the build targets baseline x86-64, which
         // has no 4 × 32-bit multiply (SSE4.1), and the crate's `Int4` stands in two 64-bit
         // multiplies and three shuffles for each; four scalar multiplies cost less (callgrind:
         // −1.4% instructions on `final`, −2.4% on paper2, the same bits).
         let (by_high, by_low) = (self.bytes[0][high], self.bytes[1][low]);
-        let lane_seed = seed.wrapping_mul(0x9c8f_2d3b);
-        let offsets = [0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8];
-        let scrambled: [u32; 4] = std::array::from_fn(|d| {
-            let sobol = by_high[d] ^ by_low[d];
-            parts::owen_scramble_rev(sobol, parts::hash(lane_seed ^ offsets[d]))
-        });
-        Int4::from(scrambled).reverse_bits().to_f32_norm()
+        let scrambled: [u32; 4] =
+            std::array::from_fn(|d| parts::owen_scramble_rev(by_high[d] ^ by_low[d], keys.dimensions[d]));
+        Int4::from(scrambled).reverse_bits().into()
     }
 }
 
 /// One pixel sample's numbers from [`SobolStreams`].
 #[derive(Clone, Debug)]
 pub struct SobolStream<'a> {
-    table: &'a SobolTable,
-    /// The sample's index in the sequence; `None` past [`SOBOL_SAMPLES`].
-    index: Option<u32>,
-    pixel_seed: u64,
+    pixel: &'a SobolPixel<'a>,
+    /// The sample's index in the sequence, bits reversed; `None` past [`SOBOL_SAMPLES`].
+    index_rev: Option<u32>,
     /// The numbers of the 4-dimensional set `loaded` (`u32::MAX`: none yet).
-    set: [f32; 4],
+    set: [u32; 4],
     loaded: u32,
     /// The current use's next dimension in `set`, and the end of its dimensions.
     next: usize,
@@ -231,29 +332,26 @@ pub struct SobolStream<'a> {
 /// (most samples never do).
 #[derive(Clone, Debug)]
 struct Fallback {
-    streams: PerSample,
-    pixel: u64,
     sample: u64,
     rng: Option<SplitMix64>,
-}
-
-impl Fallback {
-    fn rng(&mut self) -> &mut SplitMix64 {
-        self.rng.get_or_insert_with(|| self.streams.stream(self.pixel, self.sample))
-    }
 }
 
 impl SobolStream<'_> {
     /// The next numbers are `dimensions` of 4-dimensional set `set`, computed if it is not
     /// the one loaded. Past the sequence's samples, they are independent numbers.
+    #[inline]
     fn use_dimensions(&mut self, set: u32, dimensions: std::ops::Range<usize>) {
-        let Some(index) = self.index else { return };
+        let Some(index_rev) = self.index_rev else { return };
         if self.loaded != set {
-            let seed = mix(self.pixel_seed ^ u64::from(set)) as u32;
-            self.set = self.table.sample_4d(index, seed);
+            self.set = self.pixel.table.sample_4d(index_rev, &self.pixel.keys(set));
             self.loaded = set;
         }
         (self.next, self.end) = (dimensions.start, dimensions.end);
+    }
+
+    fn fallback(&mut self) -> &mut SplitMix64 {
+        let (pixel, sample) = (&self.pixel.fallback, self.fallback.sample);
+        self.fallback.rng.get_or_insert_with(|| pixel.stream(sample))
     }
 }
 
@@ -267,15 +365,15 @@ impl SampleRng for SobolStream<'_> {
 impl rand::TryRng for SobolStream<'_> {
     type Error = std::convert::Infallible;
 
-    /// The current use's next Sobol number (its 24 bits on top, as `f32` keeps them), or an
-    /// independent one once they are used up.
+    /// The current use's next Sobol number (its top 23 bits, as `sobol_burley` gives them as
+    /// `f32`), or an independent one once they are used up.
     fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
         if self.next < self.end {
             let v = self.set[self.next];
             self.next += 1;
-            Ok(((v * 16_777_216.0) as u32) << 8)
+            Ok(v & !0x1ff)
         } else {
-            Ok(self.fallback.rng().next_u32())
+            Ok(self.fallback().next_u32())
         }
     }
 
@@ -286,14 +384,14 @@ impl rand::TryRng for SobolStream<'_> {
     /// fallback draw is a later number of it.)
     fn try_next_u64(&mut self) -> Result<u64, Self::Error> {
         if self.next >= self.end {
-            return Ok(self.fallback.rng().next_u64());
+            return Ok(self.fallback().next_u64());
         }
         let high = self.try_next_u32()?;
-        Ok(u64::from(high) << 32 | u64::from(self.fallback.rng().next_u32()))
+        Ok(u64::from(high) << 32 | u64::from(self.fallback().next_u32()))
     }
 
     fn try_fill_bytes(&mut self, dst: &mut [u8]) -> Result<(), Self::Error> {
-        self.fallback.rng().fill_bytes(dst);
+        self.fallback().fill_bytes(dst);
         Ok(())
     }
 }
@@ -378,9 +476,20 @@ impl rand::TryRng for SharedStream<'_> {
 impl SampleRng for SharedStream<'_> {}
 
 impl RandomStreams for SharedRng {
-    type Stream<'a> = SharedStream<'a>;
+    type Pixel<'a> = &'a SharedRng;
 
-    fn stream(&self, _pixel: u64, _sample: u64) -> SharedStream<'_> {
+    fn pixel(&self, _pixel: u64) -> &SharedRng {
+        self
+    }
+}
+
+impl PixelStreams for &SharedRng {
+    type Stream<'a>
+        = SharedStream<'a>
+    where
+        Self: 'a;
+
+    fn stream(&self, _sample: u64) -> SharedStream<'_> {
         SharedStream(self)
     }
 }
