@@ -154,6 +154,8 @@ impl PixelStreams for PerSamplePixel {
 pub struct SobolStreams {
     /// The render seed (`--seed`).
     seed: u64,
+    /// The render seed mixed, the first step of every pixel's seed.
+    seed_key: u64,
     table: Arc<SobolTable>,
 }
 
@@ -163,7 +165,7 @@ pub const SOBOL_SAMPLES: u64 = 1 << 16;
 impl SobolStreams {
     /// The streams of render seed `seed` (`--seed`).
     pub fn new(seed: u64) -> SobolStreams {
-        SobolStreams { seed, table: Arc::new(SobolTable::new()) }
+        SobolStreams { seed, seed_key: mix(seed ^ 0x536F_626F_6C00_0000), table: Arc::new(SobolTable::new()) }
     }
 
     /// Point `index` (below [`SOBOL_SAMPLES`]) of the four dimensions every set uses, Owen
@@ -188,8 +190,8 @@ impl RandomStreams for SobolStreams {
     fn pixel(&self, pixel: u64) -> SobolPixel<'_> {
         SobolPixel {
             table: &self.table,
-            seed: mix(mix(self.seed ^ 0x536F_626F_6C00_0000) ^ pixel),
-            fallback: PerSample { seed: self.seed }.pixel(pixel),
+            seed: mix(self.seed_key ^ pixel),
+            fallback: (PerSample { seed: self.seed }, pixel),
             keys: Default::default(),
         }
     }
@@ -207,7 +209,8 @@ const KEPT_SETS: usize = 4;
 pub struct SobolPixel<'a> {
     table: &'a SobolTable,
     seed: u64,
-    fallback: PerSamplePixel,
+    /// The independent streams and pixel a sample falls back to (made only if it does).
+    fallback: (PerSample, u64),
     keys: [Cell<Option<SetKeys>>; KEPT_SETS],
 }
 
@@ -350,8 +353,8 @@ impl SobolStream<'_> {
     }
 
     fn fallback(&mut self) -> &mut SplitMix64 {
-        let (pixel, sample) = (&self.pixel.fallback, self.fallback.sample);
-        self.fallback.rng.get_or_insert_with(|| pixel.stream(sample))
+        let ((streams, pixel), sample) = (self.pixel.fallback, self.fallback.sample);
+        self.fallback.rng.get_or_insert_with(|| streams.pixel(pixel).stream(sample))
     }
 }
 
