@@ -136,8 +136,10 @@ impl PixelStreams for PerSamplePixel {
 /// recommends: the same four best Sobol dimensions, decorrelated by a different scramble seed
 /// per set, so bounces do not correlate with the camera or with bounces of other sets, and the
 /// two bounces of one set are stratified jointly, as four dimensions of one sequence. A set is
-/// the sampler's main cost (about 190 instructions with `SobolTable`, 290 before); sharing one
-/// between two bounces made Sobol renders of `final` 1.07× faster (`results/perf.md`). Past a
+/// the sampler's main cost: about 105 instructions now that its scramble keys are made once
+/// per pixel ([`SobolPixel`]), 190 when they were made per sample, 290 before `SobolTable`;
+/// sharing one between two bounces made Sobol renders of `final` 1.07× faster
+/// (`results/perf.md`). Past a
 /// use's dimensions (Russian roulette's draw after a direction), or past the sequence's 2¹⁶
 /// samples, the stream falls back to independent numbers seeded like [`PerSample`]'s, so any
 /// draw count and any spp work.
