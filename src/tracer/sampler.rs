@@ -139,10 +139,9 @@ impl PixelStreams for PerSamplePixel {
 /// the sampler's main cost: about 105 instructions now that its scramble keys are made once
 /// per pixel ([`SobolPixel`]), 190 when they were made per sample, 290 before `SobolTable`;
 /// sharing one between two bounces made Sobol renders of `final` 1.07× faster
-/// (`results/perf.md`). Past a
-/// use's dimensions (Russian roulette's draw after a direction), or past the sequence's 2¹⁶
-/// samples, the stream falls back to independent numbers seeded like [`PerSample`]'s, so any
-/// draw count and any spp work.
+/// (`results/perf.md`). Past a use's dimensions (Russian roulette's draw after a direction),
+/// or past the sequence's 2¹⁶ samples, the stream falls back to independent numbers seeded
+/// like [`PerSample`]'s, so any draw count and any spp work.
 ///
 /// ```
 /// use raypool::tracer::sampler::{PixelStreams, RandomStreams, SobolStreams, uniform};
