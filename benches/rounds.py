@@ -25,7 +25,7 @@ SAMPLERS = ["sobol", "independent"]
 
 
 def main(argv):
-    if "--" not in argv or len(argv) < 3:
+    if "--" not in argv or len(argv) < 3 or not argv[0].isdigit() or int(argv[0]) < 1:
         sys.exit(__doc__)
     rounds, rest = int(argv[0]), argv[1:]
     scenes = ["final", "paper1", "paper2", "paper3", "three-spheres"]
@@ -33,13 +33,18 @@ def main(argv):
         scenes, rest = rest[1].split(","), rest[2:]
     split = rest.index("--")
     binaries = [arg.split("=", 1) for arg in rest[:split]]
+    if not binaries or any(len(b) != 2 for b in binaries):
+        sys.exit("rounds.py: name each binary as NAME=PATH, before the --")
     flags = rest[split + 1:]
     out = os.path.join(tempfile.mkdtemp(), "x.pfm")
 
     def seconds(binary, scene, sampler):
         size = ["--width", "600", "--height", "400"] if scene == "final" else ["--width", "400"]
         command = [binary, "render", "--scene", scene, *size, *flags, "--sampler", sampler, "--out", out]
-        run = subprocess.run(command, capture_output=True, text=True)
+        try:
+            run = subprocess.run(command, capture_output=True, text=True)
+        except OSError as error:
+            sys.exit(f"rounds.py: cannot run {binary}: {error.strerror}")
         found = re.search(r"([0-9.]+) s,", run.stderr + run.stdout)
         if run.returncode != 0 or not found:
             sys.exit(f"{' '.join(command)}: {run.stderr.strip()}")
