@@ -26,7 +26,7 @@ use arrayvec::ArrayVec;
 use crate::tracer::bvh::Bvh;
 use crate::tracer::packet::{LANES, Packet};
 use crate::tracer::ray::Ray;
-use crate::tracer::real::Real;
+use crate::tracer::real::{Real, to_f32};
 use crate::tracer::sphere::{Closest, Sphere};
 
 /// Children per node.
@@ -171,12 +171,14 @@ impl WideBvh {
             return;
         }
         let slab = Slab::new(ray);
-        // Two stacks of plain 4-byte values, not one of (Child, Real) pairs: a pair is
-        // written field by field and read back whole, which defeats the CPU's forwarding of
-        // stores to loads (profiled: 10% of the time on one instruction). ArrayVecs, not
-        // arrays: zeroing 1.5 KiB for every ray cost 40 ns of a 150 ns traversal.
-        let mut children: ArrayVec<u32, STACK> = ArrayVec::new();
-        let mut entries: ArrayVec<Real, STACK> = ArrayVec::new();
+        // Waiting children as one 8-byte word each (`Waiting`), written and read whole: a
+        // `(child, entry)` pair was written field by field and read back whole, which defeats
+        // the CPU's forwarding of stores to loads (profiled: 10% of the time on one
+        // instruction); two stacks of 4-byte values avoided that but cost two pushes, two
+        // pops and two bounds checks (callgrind: the one word executes 4.3% fewer
+        // instructions on `final`). An ArrayVec, not an array: zeroing 1.5 KiB for every
+        // ray cost 40 ns of a 150 ns traversal.
+        let mut waiting: ArrayVec<Waiting, STACK> = ArrayVec::new();
         let mut child = ROOT;
         loop {
             if child & LEAF != 0 {
@@ -207,8 +209,7 @@ impl WideBvh {
                     // The nearest is visited at once (its entry was just checked against
                     // the closest hit); the others wait on the stack, nearest on top.
                     for k in 0..count - 1 {
-                        children.push(hit[k]);
-                        entries.push(at[k]);
+                        waiting.push(Waiting::new(hit[k], at[k]));
                     }
                     child = hit[count - 1];
                     continue;
@@ -216,13 +217,41 @@ impl WideBvh {
             }
             // Next, the nearest waiting child the closest hit so far does not rule out.
             loop {
-                let (Some(next), Some(entry)) = (children.pop(), entries.pop()) else { return };
-                if entry <= closest.t {
-                    child = next;
+                let Some(next) = waiting.pop() else { return };
+                if next.entry() <= closest.t {
+                    child = next.child();
                     break;
                 }
             }
         }
+    }
+}
+
+/// A child waiting on the traversal's stack: its slot value in the low 32 bits, a lower bound
+/// on its entry distance as f32 bits in the high 32, so that a push and a pop each move one
+/// word. The bound is the entry distance itself in the default build; with the `f64` feature
+/// it is rounded down to f32, which can only keep a child that the exact distance would have
+/// skipped, never skip one it would have kept.
+#[derive(Clone, Copy)]
+struct Waiting(u64);
+
+impl Waiting {
+    #[inline(always)]
+    fn new(child: u32, entry: Real) -> Waiting {
+        let bound = to_f32(entry);
+        // Folds away in the default build (a number is never above itself).
+        let bound = if Real::from(bound) > entry { bound.next_down() } else { bound };
+        Waiting(u64::from(bound.to_bits()) << 32 | u64::from(child))
+    }
+
+    #[inline(always)]
+    fn entry(self) -> Real {
+        Real::from(f32::from_bits((self.0 >> 32) as u32))
+    }
+
+    #[inline(always)]
+    fn child(self) -> u32 {
+        self.0 as u32
     }
 }
 
