@@ -31,8 +31,6 @@ pub struct Packet {
     radius: Lanes,
     /// Each lane's index in the scene's sphere array (for tie-breaking and the hit record).
     index: [u32; LANES],
-    /// Lanes in use (the first `len`).
-    len: u32,
 }
 
 impl Packet {
@@ -57,7 +55,6 @@ impl Packet {
             center: [[Real::NAN; LANES]; 3],
             radius: [Real::NAN; LANES],
             index: [Packet::EMPTY; LANES],
-            len: spheres.len() as u32,
         };
         for (lane, sphere) in spheres.iter().enumerate() {
             for axis in 0..3 {
@@ -67,11 +64,6 @@ impl Packet {
             packet.index[lane] = (first + lane) as u32;
         }
         packet
-    }
-
-    /// The scene indices of the spheres in this packet: consecutive, from the first lane's.
-    pub fn indices(&self) -> std::ops::Range<usize> {
-        self.index[0] as usize..(self.index[0] + self.len) as usize
     }
 
     /// Offers every lane's hit to `closest`: the stable test of [`Sphere::intersect`], lane
