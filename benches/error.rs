@@ -20,6 +20,7 @@ use raypool::files::output::{Format, encode, read_pfm};
 use raypool::measure::convergence::{Reference, log_log_fit, timed_render};
 use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::plot::{LogSeries, log_log_plot};
+use raypool::measure::speedup::median;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::tracer::real::{Real, vec3};
 use raypool::tracer::render::default_height;
@@ -41,6 +42,9 @@ const TARGETS: [Real; 8] = [0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.
 const ADAPTIVE: [(&str, Sampler); 2] =
     [("adaptive", Sampler::Independent), ("sobol adaptive", Sampler::Sobol)];
 const PRECISION: &str = if cfg!(feature = "f64") { "f64" } else { "f32" };
+/// Runs per render whose median time a row reports: single runs on this shared machine moved
+/// Sobol's time-to-error ratio on `final` by ±10% between runs of the same code.
+const TIMING_ROUNDS: usize = 3;
 
 struct Config {
     width: u32,
@@ -88,33 +92,47 @@ fn main() {
             "| {name} | {} × {height} | {} | {:.2e} |",
             config.width, reference.spp, reference.noise
         );
-        // One timed render of `method` (`setting`: its spp, or its target error), measured.
-        let measure = |method: &str, setting: f64, settings: RenderSettings| {
-            let (out, seconds) = timed_render(scene.clone(), settings, threads);
-            let r = row(name, method, setting, &out, seconds, &reference, base);
-            eprintln!(
-                "{name} {PRECISION} {method} {setting}: {:.1} spp, {seconds:.3} s, rmse {:.3e}, relmse {:.3e}",
-                r.mean_spp, r.rmse, r.rel_mse
-            );
-            r
+        // Every method at one setting (`setting`: the spp, or the target error), measured: the
+        // renders run in rounds, each running every method once, so the machine's drift over
+        // the minutes hits the methods alike; a row's time is the median of its rounds (the
+        // images are the same bits every round, so the first round's is measured).
+        let measure = |rows: &mut Vec<Row>, setting: f64, methods: &[(&str, RenderSettings)]| {
+            let mut seconds = vec![Vec::new(); methods.len()];
+            let mut images = Vec::new();
+            for round in 0..TIMING_ROUNDS {
+                for (k, &(_, settings)) in methods.iter().enumerate() {
+                    let (out, time) = timed_render(scene.clone(), settings, threads);
+                    seconds[k].push(time);
+                    if round == 0 {
+                        images.push(out);
+                    }
+                }
+            }
+            for ((&(method, _), out), mut times) in methods.iter().zip(&images).zip(seconds) {
+                let r = row(name, method, setting, out, median(&mut times), &reference, base);
+                eprintln!(
+                    "{name} {PRECISION} {method} {setting}: {:.1} spp, {:.3} s (median of {times:.3?}), rmse {:.3e}, relmse {:.3e}",
+                    r.mean_spp, r.seconds, r.rmse, r.rel_mse
+                );
+                rows.push(r);
+            }
         };
-        // Rounds over the spp, each running every method once, so the machine's drift over
-        // the minutes hits the methods alike.
         // To twice the goal's spp, so a method noisier than independent sampling (roulette)
         // can still reach its error.
         let mut spp = 1;
         while spp <= 2 * config.max_spp {
-            for (method, sampler, roulette) in METHODS {
-                rows.push(measure(method, spp as f64, RenderSettings { spp, sampler, roulette, ..base }));
-            }
+            let methods = METHODS.map(|(method, sampler, roulette)| {
+                (method, RenderSettings { spp, sampler, roulette, ..base })
+            });
+            measure(&mut rows, spp as f64, &methods);
             spp *= 2;
         }
         for target_error in TARGETS {
-            for (method, sampler) in ADAPTIVE {
+            let methods = ADAPTIVE.map(|(method, sampler)| {
                 let adaptive = Some(Adaptive { target_error, min_spp: config.min_spp });
-                let settings = RenderSettings { spp: 4 * config.max_spp, adaptive, sampler, ..base };
-                rows.push(measure(method, target_error as f64, settings));
-            }
+                (method, RenderSettings { spp: 4 * config.max_spp, adaptive, sampler, ..base })
+            });
+            measure(&mut rows, target_error as f64, &methods);
         }
     }
     let csv: String = rows
@@ -232,7 +250,7 @@ fn uniform_time_for(uniform: &[&Row], rmse: f64) -> f64 {
 fn report(rows: &[Row], config: &Config, references: &str, footer: &str, threads: usize) -> String {
     let mut md = format!(
         "# Run time against error\n\n`{footer}`\n\nEvery render: {} pixels wide (height from the scene's aspect), depth 50, \
-         seed 1, work-stealing scheduler on {threads} threads; one run per point. Error = RMSE over linear RGB against a \
+         seed 1, work-stealing scheduler on {threads} threads; each time the median of {TIMING_ROUNDS} runs, interleaved over the methods. Error = RMSE over linear RGB against a \
          reference of two independent halves, with the reference's own noise (RMSE(a, b)/2) taken out \
          (`src/measure/convergence.rs`).\n\n| scene | size | reference spp | reference noise (RMSE) |\n|---|---|---:|---:|\n{references}\n",
         config.width
@@ -301,7 +319,7 @@ fn headline(rows: &[Row], max_spp: u32) -> String {
          their target errors E = 0.2 … 0.0016), the time at which its error-against-time curve crosses the error that independent uniform sampling reaches at {max_spp} spp, \
          interpolated log–log between the two runs around the crossing; the ratio is that time ÷ independent \
          uniform sampling's own time at {max_spp} spp (below 1: faster to the same error). \"+rr\": Russian \
-         roulette. Single runs on a shared machine: times carry ±10%.\n\n\
+         roulette.\n\n\
          | scene | method | RMSE: time (s) | ratio | relMSE: time (s) | ratio |\n|---|---|---:|---:|---:|---:|\n"
     );
     for scene in SCENES {
