@@ -142,7 +142,7 @@ impl WideBvh {
     }
 
     /// The slot of a leaf of `spheres[range]` (1 to [`LANES`] of them), with its packet made.
-    fn leaf(&mut self, spheres: &[Sphere], first: usize, range: std::ops::Range<usize>) -> u32 {
+    fn leaf(&mut self, spheres: &[Sphere], first: usize, range: Range<usize>) -> u32 {
         self.packet_of[range.start] = self.packets.len() as u32;
         self.packets.push(Packet::new(&spheres[range.clone()], first + range.start));
         leaf_slot(first + range.start, range.len())
