@@ -14,6 +14,7 @@ use raypool::measure::machine::{Machine, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Schedule, render};
+use raypool::tracer::real::to_f64;
 use raypool::tracer::render::{RenderJob, RenderSettings};
 use raypool::tracer::sampler::{PerSample, SharedRng, SobolStreams};
 use raypool::tracer::scene::{Accel, Scene};
@@ -143,7 +144,7 @@ fn median(xs: &[f64]) -> f64 {
 }
 
 fn largest_difference(a: &Image, b: &Image) -> f64 {
-    a.pixels.iter().zip(&b.pixels).map(|(p, q)| f64::from((*p - *q).abs().max_element())).fold(0.0, f64::max)
+    a.pixels.iter().zip(&b.pixels).map(|(p, q)| to_f64((*p - *q).abs().max_element())).fold(0.0, f64::max)
 }
 
 fn main() {

@@ -18,6 +18,7 @@ use raypool::measure::machine::{Machine, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Schedule, render};
+use raypool::tracer::real::to_f64;
 use raypool::tracer::render::{Adaptive, RenderJob, RenderSettings};
 use raypool::tracer::sampler::Sampler;
 use raypool::tracer::scene::Scene;
@@ -45,7 +46,7 @@ fn image_mean(scene: &Scene, settings: RenderSettings, threads: usize) -> f64 {
 }
 
 fn mean_of(image: &Image) -> f64 {
-    image.pixels.iter().map(|p| f64::from(p.x + p.y + p.z) / 3.0).sum::<f64>() / image.pixels.len() as f64
+    image.pixels.iter().map(|p| to_f64(p.x + p.y + p.z) / 3.0).sum::<f64>() / image.pixels.len() as f64
 }
 
 /// Mean and standard error of the mean of `values`.

@@ -22,7 +22,7 @@ use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::plot::{LogSeries, log_log_plot};
 use raypool::measure::speedup::median;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::tracer::real::{Real, vec3};
+use raypool::tracer::real::{Real, to_f64, vec3};
 use raypool::tracer::render::default_height;
 use raypool::tracer::render::{Adaptive, RenderSettings};
 use raypool::tracer::sampler::Sampler;
@@ -132,7 +132,7 @@ fn main() {
                 let adaptive = Some(Adaptive { target_error, min_spp: config.min_spp });
                 (method, RenderSettings { spp: 4 * config.max_spp, adaptive, sampler, ..base })
             });
-            measure(&mut rows, target_error as f64, &methods);
+            measure(&mut rows, to_f64(target_error), &methods);
         }
     }
     let csv: String = rows

@@ -10,7 +10,7 @@ use raypool::files::output::{Format, encode};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Rendered, Schedule, render};
-use raypool::tracer::real::Real;
+use raypool::tracer::real::{Real, to_f64};
 use raypool::tracer::render::{Adaptive, RenderJob, RenderSettings};
 use raypool::tracer::sampler::Sampler;
 use raypool::tracer::scene::Scene;
@@ -181,7 +181,7 @@ fn adaptive_sampling_spends_fewer_samples_where_the_image_is_smooth() {
 fn image_mean(name: &str, settings: RenderSettings) -> f64 {
     let out = render_builtin(name, settings, Schedule::StaticBlocks, 2);
     let n = out.image.pixels.len() as f64;
-    out.image.pixels.iter().map(|p| f64::from(p.x + p.y + p.z) / 3.0).sum::<f64>() / n
+    out.image.pixels.iter().map(|p| to_f64(p.x + p.y + p.z) / 3.0).sum::<f64>() / n
 }
 
 #[test]
@@ -291,7 +291,7 @@ fn adaptive_sampling_keeps_the_mean_image() {
         let scene = builtin_scene("paper1", DEFAULT_SCENE_SEED).unwrap().to_scene();
         let base = RenderSettings { width: 48, height: 32, max_depth: 20, ..Default::default() };
         let mean = |image: &raypool::files::image::Image| {
-            image.pixels.iter().map(|p| f64::from(p.x + p.y + p.z) / 3.0).sum::<f64>()
+            image.pixels.iter().map(|p| to_f64(p.x + p.y + p.z) / 3.0).sum::<f64>()
                 / image.pixels.len() as f64
         };
         let reference = raypool::measure::convergence::Reference::render(&scene, base, 1024, 2);

@@ -32,6 +32,7 @@ use glam::DVec3;
 use crate::files::image::Image;
 use crate::schedule::frame::Frame;
 use crate::schedule::progressive::{Pass, Sums};
+use crate::tracer::real::to_f64;
 use crate::tracer::render::{Adaptive, TileOutput};
 use crate::tracer::tile::Tile;
 
@@ -60,7 +61,7 @@ pub fn render_adaptive(
     // merged parts equal the one-process image. A whole image has none.
     tiles.extend(ring(frame).into_iter().map(|strip| pilot_pass.render(strip)));
     let noise = halves(&sums, width, height);
-    let counts = sample_counts(&noise, width, height, pilot, settings.spp, f64::from(adaptive.target_error));
+    let counts = sample_counts(&noise, width, height, pilot, settings.spp, to_f64(adaptive.target_error));
     if counts.iter().any(|&n| n > pilot) {
         let rest = run_pass(&pass(pilot..settings.spp, Some(Arc::new(counts))));
         image = frame.assemble(&rest)?;
