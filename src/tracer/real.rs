@@ -36,6 +36,21 @@ pub fn to_f32(x: Real) -> f32 {
     x as f32
 }
 
+/// `x` rounded down to f32: `x` itself in the default build; with the `f64` feature the
+/// largest f32 not above `x`, for a bound that may err low but never high.
+///
+/// ```
+/// use raypool::tracer::real::{Real, to_f32_at_most};
+/// let third: Real = 1.0 / 3.0; // in f64, the nearest f32 lies above it
+/// assert!(Real::from(to_f32_at_most(third)) <= third);
+/// assert_eq!(to_f32_at_most(0.5), 0.5);
+/// ```
+pub fn to_f32_at_most(x: Real) -> f32 {
+    let nearest = to_f32(x);
+    // Folds away in the default build (a number is never above itself).
+    if Real::from(nearest) > x { nearest.next_down() } else { nearest }
+}
+
 /// `x` as f64 (exact in both builds).
 #[allow(clippy::unnecessary_cast)]
 pub fn to_f64(x: Real) -> f64 {

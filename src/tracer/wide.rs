@@ -30,7 +30,7 @@ use arrayvec::ArrayVec;
 use crate::tracer::bvh::Bvh;
 use crate::tracer::packet::{LANES, Packet};
 use crate::tracer::ray::Ray;
-use crate::tracer::real::{Real, to_f32};
+use crate::tracer::real::{Real, to_f32_at_most};
 use crate::tracer::sphere::{Closest, Sphere};
 
 /// Children per node.
@@ -278,10 +278,7 @@ struct Waiting(u64);
 impl Waiting {
     #[inline(always)]
     fn new(child: u32, entry: Real) -> Waiting {
-        let bound = to_f32(entry);
-        // Folds away in the default build (a number is never above itself).
-        let bound = if Real::from(bound) > entry { bound.next_down() } else { bound };
-        Waiting(u64::from(bound.to_bits()) << 32 | u64::from(child))
+        Waiting(u64::from(to_f32_at_most(entry).to_bits()) << 32 | u64::from(child))
     }
 
     #[inline(always)]
