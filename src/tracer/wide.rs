@@ -323,8 +323,9 @@ impl Slab {
     /// Per child, the distance at which the ray enters its box, and a mask with bit `k` set
     /// if it enters child `k`'s box before `t_max`. Comparisons are written
     /// `if a > b { a } else { b }` so they compile to `maxps`/`minps`, and the mask to one
-    /// `cmpleps` and `movmskps`; a NaN (a ray parallel to a face, starting on its plane) is
-    /// ignored, which only widens the box.
+    /// four-lane comparison, whose lanes the traversal's per-lane branches then test one by
+    /// one (`pextrw`: the compiler folds the mask's bits into those branches); a NaN (a ray
+    /// parallel to a face, starting on its plane) is ignored, which only widens the box.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // one index runs over several arrays at once
     fn enter(&self, corner: &[[Wide; 3]; 2], t_max: Real) -> (Wide, u32) {
