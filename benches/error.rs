@@ -42,8 +42,9 @@ const TARGETS: [Real; 8] = [0.2, 0.1, 0.05, 0.025, 0.0125, 0.00625, 0.003125, 0.
 const ADAPTIVE: [(&str, Sampler); 2] =
     [("adaptive", Sampler::Independent), ("sobol adaptive", Sampler::Sobol)];
 const PRECISION: &str = if cfg!(feature = "f64") { "f64" } else { "f32" };
-/// Runs per render whose median time a row reports: single runs on this shared machine moved
-/// Sobol's time-to-error ratio on `final` by ±10% between runs of the same code.
+/// Runs per render whose median time a row reports: on a shared machine one run's time moves
+/// by 10% and more from run to run (`results/perf.md`), and the headline ratios are ratios of
+/// such times.
 const TIMING_ROUNDS: usize = 3;
 
 struct Config {
