@@ -43,6 +43,7 @@ pub struct Scatter {
 
 impl Material {
     /// Scatters a ray arriving along the unit vector `incoming` at `hit`; `None` = absorbed.
+    #[inline(always)]
     pub fn scatter<R: Rng + ?Sized>(&self, incoming: Vec3, hit: &Hit, rng: &mut R) -> Option<Scatter> {
         match *self {
             Material::Lambertian { albedo } => {

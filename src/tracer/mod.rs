@@ -1,4 +1,4 @@
-//! **The book's tracer**, in the book's order: numbers, rays, spheres, materials, the camera,
+//! **The book's tracer**, in the book's order: numbers (and angles as fractions of a turn), rays, spheres, materials, the camera,
 //! the sky, the hierarchies that find hits fast (spheres four at a time in `packet`, the
 //! binary tree in `bvh`, the four-wide tree collapsed from it in `wide`), the scene that
 //! holds them, random numbers, tiles and shards (how an image is cut up), and the one render loop that turns a tile of pixels into
@@ -10,6 +10,7 @@
 //! [`render::render_tile`] on many threads, [`crate::files`] stores its [`render::TileOutput`]s.
 
 pub mod real;
+pub mod turn;
 pub mod ray;
 pub mod sphere;
 pub mod material;

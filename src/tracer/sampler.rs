@@ -20,7 +20,8 @@ use rand::{Rng, RngExt, SeedableRng};
 use rand_xoshiro::SplitMix64;
 use sobol_burley::parts::{self, Int4};
 
-use crate::tracer::real::{Real, Vec3, consts::TAU};
+use crate::tracer::real::{Real, Vec3};
+use crate::tracer::turn::sin_cos_turn;
 
 /// Which numbers pixel samples draw (`--sampler`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -420,14 +421,14 @@ pub fn uniform<R: Rng + ?Sized>(rng: &mut R) -> Real {
 pub fn random_unit_vector<R: Rng + ?Sized>(rng: &mut R) -> Vec3 {
     let z = 1.0 - 2.0 * uniform(rng);
     let r = (1.0 - z * z).max(0.0).sqrt();
-    let (sin, cos) = (TAU * uniform(rng)).sin_cos();
+    let (sin, cos) = sin_cos_turn(uniform(rng));
     Vec3::new(r * cos, r * sin, z)
 }
 
 /// A point uniformly distributed in the unit disk, as `(x, y)`.
 pub fn random_in_unit_disk<R: Rng + ?Sized>(rng: &mut R) -> (Real, Real) {
     let r = uniform(rng).sqrt();
-    let (sin, cos) = (TAU * uniform(rng)).sin_cos();
+    let (sin, cos) = sin_cos_turn(uniform(rng));
     (r * cos, r * sin)
 }
 
