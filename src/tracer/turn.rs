@@ -4,20 +4,21 @@
 //! Those samplers draw a uniform `u` in `[0, 1)` and want `sin(2πu)` and `cos(2πu)`. Going
 //! through radians (`(TAU * u).sin_cos()`) costs twice: the product `TAU * u` is rounded, an
 //! angle error of up to 3.7·10⁻⁷ near a full turn, and libm's `sincosf` is a call that reduces
-//! its argument by π/2 again, with branches on its size, and makes the caller save every
-//! vector register it holds. In turns the reduction is exact and nearly free: `2u` is exact,
-//! its nearest integer `q` counts half turns, and `f = 2u − q` (exact, in `[−½, ½]`) is what
-//! is left, at most a quarter turn either way. Two polynomials give `sin(πf)` and `cos(πf)`
-//! there, and a half turn only negates both: `q`'s lowest bit goes into their sign bits, with
-//! no branch (which half of the circle a random angle falls in is a coin toss that a branch
-//! predictor would lose half the time).
+//! its argument by π/2 again, with branches on its size, and across which the caller must save
+//! every vector register it still needs (the x86-64 ABI preserves none). In turns the
+//! reduction is exact and nearly free: `2u` is exact, its nearest integer `q` counts half
+//! turns, and `f = 2u − q` (exact, in `[−½, ½]`) is what is left, at most a quarter turn either
+//! way. Two polynomials give `sin(πf)` and `cos(πf)` there, and a half turn only negates both:
+//! `q`'s lowest bit goes into their sign bits, with no branch (which half of the circle a
+//! random angle falls in is a coin toss that a branch predictor would lose half the time).
 //!
-//! Invariants: for `u` in `[0, 1]`, each result is within 2.5·10⁻⁷ (two units in the last
-//! place of 1) of the true value: the test checks every `u` an f32 draw can take against f64's
-//! sine and cosine of the exact angle (the worst is 2.39·10⁻⁷, where the polynomials' own
-//! roundings add up near a quarter turn; the radians route is off by up to 4.1·10⁻⁷). It is
-//! exact at the half turns (0 and ±1 there), and `sin² + cos²` is within 5·10⁻⁷ of 1. The `f64` build keeps libm's `sin_cos`: it is the
-//! comparison build, and f64's polynomials would be twice as long.
+//! Invariants: for `u` in `[0, 1]`, each result is within 2.5·10⁻⁷ of the true value (about
+//! two f32 spacings at 1): the test checks every `u` an f32 draw can take against f64's sine
+//! and cosine of the exact angle (the worst is 2.39·10⁻⁷, where the polynomials' own roundings
+//! add up near a quarter turn; the radians route's sine is off by up to 4.1·10⁻⁷). It is exact
+//! at the half turns (0 and ±1 there), and `sin² + cos²` is within 5·10⁻⁷ of 1. The `f64`
+//! build keeps libm's `sin_cos`: it is the comparison build, and f64's polynomials would be
+//! twice as long.
 
 use crate::tracer::real::Real;
 
@@ -33,10 +34,11 @@ use crate::tracer::real::Real;
 #[cfg(not(feature = "f64"))]
 #[inline]
 pub fn sin_cos_turn(u: Real) -> (Real, Real) {
-    // Near-minimax on f in [-1/2, 1/2] as polynomials in y = f² (a Remez fit in f64, rounded
-    // to f32: relative error 5.3e-9 for sin, absolute 1e-9 for cos before that rounding, well
-    // below f32's own, which dominates). sin(πf) = f · P(y); cos(πf) = 1 + y · Q(y), so both
-    // are exact at f = 0. (The fit's first coefficient rounds to π itself.)
+    // Near-minimax on f in [-1/2, 1/2] as polynomials in y = f² (a Remez fit in f64 by
+    // `benches/turn_fit.py`, rounded to f32; before that rounding, relative error 5.3e-9 for
+    // sin and absolute 1e-9 for cos, well below f32's own, which dominates).
+    // sin(πf) = f · P(y); cos(πf) = 1 + y · Q(y), so both are exact at f = 0. (The fit's
+    // first coefficient rounds to π itself.)
     const P: [f32; 5] = [std::f32::consts::PI, -5.16771, 2.550_069_8, -0.598_242_1, 0.077_560_39];
     const Q: [f32; 5] = [-4.934_802, 4.058_711_5, -1.33524, 0.235_074_76, -0.024_627_9];
     // Adding 1.5·2²³ rounds to the nearest integer (f32's spacing there is 1) and leaves it in
