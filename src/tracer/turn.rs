@@ -1,16 +1,17 @@
-//! The sine and cosine of a fraction of a turn, for the two samplers that draw an angle
-//! (a direction on the sphere, a point in the lens's disk).
+//! The sine and cosine of a fraction of a turn, for the two warps that draw an angle (a
+//! direction on the sphere, a point in the lens's disk).
 //!
-//! Those samplers draw a uniform `u` in `[0, 1)` and want `sin(2πu)` and `cos(2πu)`. Going
-//! through radians (`(TAU * u).sin_cos()`) costs twice: the product `TAU * u` is rounded, an
-//! angle error of up to 3.7·10⁻⁷ near a full turn, and libm's `sincosf` is a call that reduces
-//! its argument by π/2 again, with branches on its size, and across which the caller must save
-//! every vector register it still needs (the x86-64 ABI preserves none). In turns the
-//! reduction is exact and nearly free: `2u` is exact, its nearest integer `q` counts half
-//! turns, and `f = 2u − q` (exact, in `[−½, ½]`) is what is left, at most a quarter turn either
-//! way. Two polynomials give `sin(πf)` and `cos(πf)` there, and a half turn only negates both:
-//! `q`'s lowest bit goes into their sign bits, with no branch (which half of the circle a
-//! random angle falls in is a coin toss that a branch predictor would lose half the time).
+//! Those warps draw a uniform `u` in `[0, 1)` and want `sin(2πu)` and `cos(2πu)`. Going
+//! through radians (`(TAU * u).sin_cos()`) costs twice: `TAU` and the product `TAU * u` are
+//! rounded, an angle error of up to 4·10⁻⁷ near a full turn, and libm's `sincosf` is a call
+//! that reduces its argument by π/2 again, with branches on its size, and across which the
+//! caller must save every vector register it still needs (the x86-64 ABI preserves none). In
+//! turns the reduction is exact and nearly free: `2u` is exact, its nearest integer `q` counts
+//! half turns, and `f = 2u − q` (exact, in `[−½, ½]`) is what is left, at most a quarter turn
+//! either way. Two polynomials give `sin(πf)` and `cos(πf)` there, and a half turn only
+//! negates both: `q`'s lowest bit goes into their sign bits, with no branch (which half of the
+//! circle a random angle falls in is a coin toss that a branch predictor would lose half the
+//! time).
 //!
 //! Invariants: for `u` in `[0, 1]`, each result is within 2.5·10⁻⁷ of the true value (about
 //! two f32 spacings at 1): the test checks every `u` an f32 draw can take against f64's sine
