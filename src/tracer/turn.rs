@@ -105,11 +105,18 @@ mod tests {
 
     #[test]
     fn each_quadrant_has_its_signs() {
-        for (u, sin_positive, cos_positive) in
-            [(0.1, true, true), (0.2, true, true), (0.3, true, false), (0.45, true, false)]
-                .into_iter()
-                .chain([(0.55, false, false), (0.7, false, false), (0.8, false, true), (0.95, false, true)])
-        {
+        // (u, sin > 0, cos > 0): two turns' fractions in each quarter of the circle.
+        let quarters = [
+            (0.1, true, true),
+            (0.2, true, true),
+            (0.3, true, false),
+            (0.45, true, false),
+            (0.55, false, false),
+            (0.7, false, false),
+            (0.8, false, true),
+            (0.95, false, true),
+        ];
+        for (u, sin_positive, cos_positive) in quarters {
             let (sin, cos) = sin_cos_turn(u);
             assert_eq!((sin > 0.0, cos > 0.0), (sin_positive, cos_positive), "u = {u}");
         }
