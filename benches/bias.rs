@@ -12,13 +12,11 @@
 use std::fmt::Write as _;
 use std::sync::Arc;
 
-use raypool::files::image::Image;
 use raypool::measure::convergence::Reference;
 use raypool::measure::machine::{Machine, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Schedule, render};
-use raypool::tracer::real::to_f64;
 use raypool::tracer::render::{Adaptive, RenderJob, RenderSettings};
 use raypool::tracer::sampler::Sampler;
 use raypool::tracer::scene::Scene;
@@ -42,11 +40,7 @@ fn adaptive(s: RenderSettings) -> RenderSettings {
 fn image_mean(scene: &Scene, settings: RenderSettings, threads: usize) -> f64 {
     let job = RenderJob::new(scene.clone(), settings);
     let frame = Arc::new(Frame::new(job, RngSource::streams(&settings), threads, 16, Arc::new(|_| {})));
-    mean_of(&render(&frame, &Schedule::Stealing).image)
-}
-
-fn mean_of(image: &Image) -> f64 {
-    image.pixels.iter().map(|p| to_f64(p.x + p.y + p.z) / 3.0).sum::<f64>() / image.pixels.len() as f64
+    render(&frame, &Schedule::Stealing).image.mean()
 }
 
 /// Mean and standard error of the mean of `values`.
@@ -69,7 +63,7 @@ fn main() {
     let base = RenderSettings { width: 48, height: 32, spp: 64, max_depth: 20, ..Default::default() };
     let scene = scene_of("paper1");
     let reference = Reference::render(&scene, base, reference_spp, threads);
-    let reference_mean = mean_of(&reference.image);
+    let reference_mean = reference.image.mean();
     let reference_error = reference.noise / (f64::from(base.width * base.height)).sqrt();
     let _ = write!(
         md,

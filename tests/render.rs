@@ -10,7 +10,7 @@ use raypool::files::output::{Format, encode};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{Frame, RngSource};
 use raypool::schedule::modes::{Rendered, Schedule, render};
-use raypool::tracer::real::{Real, to_f64};
+use raypool::tracer::real::Real;
 use raypool::tracer::render::{Adaptive, RenderJob, RenderSettings};
 use raypool::tracer::sampler::Sampler;
 use raypool::tracer::scene::Scene;
@@ -179,9 +179,7 @@ fn adaptive_sampling_spends_fewer_samples_where_the_image_is_smooth() {
 
 /// The mean pixel value of `name` rendered with `settings`.
 fn image_mean(name: &str, settings: RenderSettings) -> f64 {
-    let out = render_builtin(name, settings, Schedule::StaticBlocks, 2);
-    let n = out.image.pixels.len() as f64;
-    out.image.pixels.iter().map(|p| to_f64(p.x + p.y + p.z) / 3.0).sum::<f64>() / n
+    render_builtin(name, settings, Schedule::StaticBlocks, 2).image.mean()
 }
 
 #[test]
@@ -290,21 +288,16 @@ fn adaptive_sampling_keeps_the_mean_image() {
         // standard errors (results/adaptive.md): pixels whose first samples agree stop early.
         let scene = builtin_scene("paper1", DEFAULT_SCENE_SEED).unwrap().to_scene();
         let base = RenderSettings { width: 48, height: 32, max_depth: 20, ..Default::default() };
-        let mean = |image: &raypool::files::image::Image| {
-            image.pixels.iter().map(|p| to_f64(p.x + p.y + p.z) / 3.0).sum::<f64>()
-                / image.pixels.len() as f64
-        };
         let reference = raypool::measure::convergence::Reference::render(&scene, base, 1024, 2);
         let means: Vec<f64> = (1..=12)
             .map(|seed| {
                 let settings = RenderSettings { seed, ..adaptive(0.1, 8, 256) };
-                mean(
-                    &render(
-                        &frame(scene.clone(), RenderSettings { max_depth: 20, ..settings }, 2),
-                        &Schedule::Stealing,
-                    )
-                    .image,
+                render(
+                    &frame(scene.clone(), RenderSettings { max_depth: 20, ..settings }, 2),
+                    &Schedule::Stealing,
                 )
+                .image
+                .mean()
             })
             .collect();
         let n = means.len() as f64;
@@ -312,7 +305,7 @@ fn adaptive_sampling_keeps_the_mean_image() {
         let spread = (means.iter().map(|m| (m - average).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
         let standard_error =
             (spread.powi(2) / n + (reference.noise / (48.0f64 * 32.0).sqrt()).powi(2)).sqrt();
-        let off = (average - mean(&reference.image)) / standard_error;
+        let off = (average - reference.image.mean()) / standard_error;
         eprintln!("adaptive: {off:.2} standard errors from the reference");
         assert!(off.abs() < 4.0, "adaptive mean {average} is {off:.1} standard errors from the reference's");
     });

@@ -73,6 +73,20 @@ impl Image {
             .collect()
     }
 
+    /// The mean over pixels and channels, summed in f64: the one number by which bias checks
+    /// compare whole images.
+    ///
+    /// ```
+    /// use raypool::files::image::Image;
+    /// use raypool::tracer::real::Vec3;
+    /// let image = Image { width: 2, height: 1, pixels: vec![Vec3::new(0.0, 0.0, 3.0), Vec3::ONE] };
+    /// assert_eq!(image.mean(), 1.0);
+    /// ```
+    pub fn mean(&self) -> f64 {
+        let sum: f64 = self.pixels.iter().map(|p| to_f64(p.x + p.y + p.z) / 3.0).sum();
+        sum / self.pixels.len() as f64
+    }
+
     /// 8-bit sRGB-ish bytes (`RGBRGB…`): the book's gamma 2 (`sqrt`), clamped to [0, 1).
     pub fn to_rgb8(&self) -> Vec<u8> {
         self.pixels
