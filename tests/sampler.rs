@@ -88,23 +88,73 @@ fn sobol_error_keeps_falling_and_beats_independent_sampling() {
 }
 
 #[test]
-fn the_sobol_table_computes_the_crates_points() {
-    // Every index of the sequence (2^16) under 64 scrambles, and under one scramble each,
-    // the same bits as the crate's own `sample_4d`.
+fn the_sobol_table_computes_the_crates_points_to_the_sequences_resolution() {
+    // Every index of the sequence (2^16) under 64 scrambles, and under one scramble each:
+    // the same top 16 bits as the crate's own `sample_4d` (its points have 16 significant
+    // bits, so those are the whole Owen-scrambled point), 23 bits in all.
     let streams = SobolStreams::new(1);
-    for index in 0..SOBOL_SAMPLES as u32 {
-        let scramble = index.wrapping_mul(0x9E37_79B9) ^ 0x1234_5678;
+    let cell = |x: f32| (x * 65536.0) as u32;
+    let check = |index: u32, scramble: u32| {
+        let ours = streams.sample_4d(index, scramble);
         assert_eq!(
-            streams.sample_4d(index, scramble),
-            sobol_burley::sample_4d(index, 0, scramble),
-            "{index}"
+            ours.map(cell),
+            sobol_burley::sample_4d(index, 0, scramble).map(cell),
+            "{index} {scramble}"
         );
+        assert!(
+            ours.iter().all(|&x| (0.0..1.0).contains(&x) && x * 8_388_608.0 == (x * 8_388_608.0).floor())
+        );
+    };
+    for index in 0..SOBOL_SAMPLES as u32 {
+        check(index, index.wrapping_mul(0x9E37_79B9) ^ 0x1234_5678);
     }
     for scramble in (0..64u32).map(|k| k.wrapping_mul(0x85EB_CA6B)) {
         for index in (0..SOBOL_SAMPLES as u32).step_by(97) {
-            assert_eq!(streams.sample_4d(index, scramble), sobol_burley::sample_4d(index, 0, scramble));
+            check(index, scramble);
         }
     }
+}
+
+#[test]
+fn below_the_sequences_resolution_the_offset_in_the_cell_is_uniform() {
+    // The 7 bits below a point's top 16: each of their 128 values equally often over the
+    // sequence's 2^16 points, in each dimension, under several scrambles (a chi-squared test
+    // with 127 degrees of freedom: 99.9% of uniform draws stay below 181.99), and not a
+    // function of the cell: the same index under different scrambles lands on different
+    // offsets as often as chance says.
+    let streams = SobolStreams::new(1);
+    let offset = |x: f32| (x * 8_388_608.0) as u32 & 0x7f;
+    for scramble in [1u32, 0xDEAD_BEEF, 0x0BAD_F00D] {
+        let mut counts = [[0u32; 128]; 4];
+        for index in 0..SOBOL_SAMPLES as u32 {
+            for (d, x) in streams.sample_4d(index, scramble).into_iter().enumerate() {
+                counts[d][offset(x) as usize] += 1;
+            }
+        }
+        for (d, counts) in counts.iter().enumerate() {
+            let expected = SOBOL_SAMPLES as f64 / 128.0;
+            let chi2: f64 = counts.iter().map(|&c| (c as f64 - expected).powi(2) / expected).sum();
+            assert!(chi2 < 181.99, "scramble {scramble:#x}, dimension {d}: chi-squared {chi2}");
+        }
+    }
+    // Points of different pixels (scrambles) that land in the same cell: their offsets agree
+    // 1 time in 128 by chance; an offset made from the cell alone would always agree.
+    let mut first_offset = std::collections::HashMap::new();
+    let (mut meetings, mut agreements) = (0, 0);
+    for scramble in (0..64u32).map(|k| k.wrapping_mul(0x2C1B_3C6D) ^ 0x51ED_270B) {
+        for index in 0..4096 {
+            let x = streams.sample_4d(index, scramble)[1];
+            let cell = (x * 65536.0) as u32;
+            if let Some(&seen) = first_offset.get(&cell) {
+                meetings += 1;
+                agreements += usize::from(seen == offset(x));
+            } else {
+                first_offset.insert(cell, offset(x));
+            }
+        }
+    }
+    assert!(meetings > 50_000, "{meetings} meetings");
+    assert!(agreements * 64 < meetings, "{agreements} of {meetings} meetings in a cell at the same offset");
 }
 
 #[test]

@@ -18,7 +18,8 @@ use std::sync::Arc;
 use rand::rngs::SmallRng;
 use rand::{Rng, RngExt, SeedableRng};
 use rand_xoshiro::SplitMix64;
-use sobol_burley::parts::{self, Int4};
+use sobol_burley::parts;
+use wide::u16x8;
 
 use crate::tracer::real::{Real, Vec3};
 use crate::tracer::turn::sin_cos_turn;
@@ -136,11 +137,12 @@ impl PixelStreams for PerSamplePixel {
 /// (a scattered direction takes two, the glass choice one). Sets are "padded" as Burley
 /// recommends: the same four best Sobol dimensions, decorrelated by a different scramble seed
 /// per set, so bounces do not correlate with the camera or with bounces of other sets, and the
-/// two bounces of one set are stratified jointly, as four dimensions of one sequence. A set is
-/// the sampler's main cost: about 105 instructions now that its scramble keys are made once
-/// per pixel ([`SobolPixel`]), 190 when they were made per sample, 290 before `SobolTable`;
-/// sharing one between two bounces made Sobol renders of `final` 1.07× faster
-/// (`results/perf.md`). Past a use's dimensions (Russian roulette's draw after a direction),
+/// two bounces of one set are stratified jointly, as four dimensions of one sequence. Sets are
+/// the sampler's main cost, so they are made two at a time, in the eight 16-bit lanes of one
+/// SSE2 register (`SobolTable`): the camera's with that of bounces 0 and 1 when a sample
+/// starts, sets 2 and 3 (bounces 2 to 5) when a path gets that far. A set took 290
+/// instructions before `SobolTable`, 190 with it, 105 once its scramble keys were made once per
+/// pixel ([`SobolPixel`]); a pair of sets takes about 90 (`results/perf.md`). Past a use's dimensions (Russian roulette's draw after a direction),
 /// or past the sequence's 2¹⁶ samples, the stream falls back to independent numbers seeded
 /// like [`PerSample`]'s, so any draw count and any spp work.
 ///
@@ -171,18 +173,19 @@ impl SobolStreams {
     }
 
     /// Point `index` (below [`SOBOL_SAMPLES`]) of the four dimensions every set uses, Owen
-    /// scrambled by `scramble`: exactly `sobol_burley::sample_4d(index, 0, scramble)`, computed
-    /// faster (see `SobolTable`).
+    /// scrambled by `scramble`: `sobol_burley::sample_4d(index, 0, scramble)` to 2⁻¹⁶, the
+    /// sequence's own resolution, computed faster, with its own offset below (see
+    /// `SobolTable`).
     ///
     /// ```
     /// use raypool::tracer::sampler::SobolStreams;
     /// let streams = SobolStreams::new(1);
-    /// assert_eq!(streams.sample_4d(5, 77), sobol_burley::sample_4d(5, 0, 77));
+    /// let cell = |x: f32| (x * 65536.0) as u32;
+    /// assert_eq!(streams.sample_4d(5, 77).map(cell), sobol_burley::sample_4d(5, 0, 77).map(cell));
     /// ```
     pub fn sample_4d(&self, index: u32, scramble: u32) -> [f32; 4] {
-        let bits = self.table.sample_4d(index.reverse_bits(), &SetKeys::new(scramble));
-        // The crate's `to_f32_norm`: the top 23 bits, exactly.
-        bits.map(|x| (x >> 9) as f32 * (1.0 / (1u32 << 23) as f32))
+        let pair = self.table.pair(index.reverse_bits(), &PairKeys::new([scramble; 2]));
+        std::array::from_fn(|d| (pair[d] >> 9) as f32 * (1.0 / (1u32 << 23) as f32))
     }
 }
 
@@ -195,13 +198,14 @@ impl RandomStreams for SobolStreams {
             seed: mix(self.seed_key ^ pixel),
             fallback: (PerSample { seed: self.seed }, pixel),
             keys: Default::default(),
+            made: Cell::new(0),
         }
     }
 }
 
-/// How many of a pixel's dimension sets keep their keys for the pixel's next samples: the
-/// camera's and those of bounces 0 to 5, more than almost every path uses.
-const KEPT_SETS: usize = 4;
+/// How many pairs of a pixel's dimension sets keep their keys for the pixel's next samples:
+/// sets 0 to 3, the camera's and those of bounces 0 to 5, more than almost every path uses.
+const KEPT_PAIRS: usize = 2;
 
 /// One pixel's Sobol streams: its scramble seed and, made the first time a sample needs them,
 /// the keys of its first dimension sets, which every later sample of the pixel reuses. A key
@@ -213,22 +217,25 @@ pub struct SobolPixel<'a> {
     seed: u64,
     /// The independent streams and pixel a sample falls back to (made only if it does).
     fallback: (PerSample, u64),
-    keys: [Cell<Option<SetKeys>>; KEPT_SETS],
+    keys: [Cell<PairKeys>; KEPT_PAIRS],
+    /// Bit `k` set: `keys[k]` is made.
+    made: Cell<u8>,
 }
 
 impl SobolPixel<'_> {
-    /// The keys of dimension set `set`, kept from an earlier sample if it is one of the first.
+    /// The points of bit-reversed index `index_rev` in dimension sets `2 pair` and
+    /// `2 pair + 1`, with the pair's keys kept from an earlier sample if it is one of the first.
     #[inline]
-    fn keys(&self, set: u32) -> SetKeys {
-        let make = || SetKeys::new(mix(self.seed ^ u64::from(set)) as u32);
-        match self.keys.get(set as usize) {
-            Some(kept) => kept.get().unwrap_or_else(|| {
-                let keys = make();
-                kept.set(Some(keys));
-                keys
-            }),
-            None => make(),
+    fn pair(&self, index_rev: u32, pair: u32) -> [u32; 8] {
+        let make = || PairKeys::new([0, 1].map(|k| mix(self.seed ^ u64::from(2 * pair + k)) as u32));
+        let Some(kept) = self.keys.get(pair as usize) else { return self.table.pair(index_rev, &make()) };
+        let bit = 1 << pair;
+        if self.made.get() & bit == 0 {
+            kept.set(make());
+            self.made.set(self.made.get() | bit);
         }
+        // Read back from where they are kept, so each group of eight lanes is one load.
+        self.table.pair(index_rev, &kept.get())
     }
 }
 
@@ -241,82 +248,125 @@ impl PixelStreams for SobolPixel<'_> {
     #[inline]
     fn stream(&self, sample: u64) -> SobolStream<'_> {
         let index_rev = (sample < SOBOL_SAMPLES).then(|| (sample as u32).reverse_bits());
-        let mut stream = SobolStream {
+        // The camera's set and bounces 0 and 1's, computed here in line: every sample needs
+        // the first, almost every one the second.
+        SobolStream {
             pixel: self,
             index_rev,
-            set: [0; 4],
-            loaded: u32::MAX,
+            numbers: index_rev.map_or(Default::default(), |index_rev| self.pair(index_rev, 0)),
+            loaded: 0,
             next: 0,
-            end: 0,
+            end: if index_rev.is_some() { 4 } else { 0 },
             fallback: Fallback { sample, rng: None },
-        };
-        stream.use_dimensions(0, 0..4);
-        stream
-    }
-}
-
-/// The scramble keys of one dimension set: the index shuffle's and each dimension's. They are
-/// `sobol_burley::sample_4d`'s own, derived from its `seed` as it derives them.
-#[derive(Clone, Copy, Debug)]
-struct SetKeys {
-    shuffle: u32,
-    dimensions: [u32; 4],
-}
-
-impl SetKeys {
-    /// The keys `sample_4d(_, 0, seed)` uses (its seed multiplier and per-dimension offsets
-    /// for dimension set 0), so the bits match the crate's.
-    fn new(seed: u32) -> SetKeys {
-        let dimension_seed = seed.wrapping_mul(0x9c8f_2d3b);
-        let offsets = [0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8];
-        SetKeys {
-            shuffle: parts::hash(seed ^ 0x79c6_8e4a),
-            dimensions: offsets.map(|offset| parts::hash(dimension_seed ^ offset)),
         }
     }
 }
 
-/// `sobol_burley::sample_4d`, the same bits, with the Sobol matrix product by table. The crate
-/// multiplies the (shuffled, bit-reversed) index by the generator matrices one set bit at a
-/// time, a loop of up to 16 rounds whose exit the CPU mispredicts; the product is linear over
-/// XOR, so it is the XOR of the products of the index's two bytes, 256 of each kept here
-/// (8 KiB, made once per render from the crate's own `parts::sobol_int4_rev`). The scrambles
-/// around it are the crate's `parts`, composed as `sample_4d` composes them
-/// (`tests/sampler.rs` checks its outputs against the crate's).
+/// The scramble keys of two dimension sets: each set's index shuffle, and per dimension the
+/// Owen hash's two keys and the jitter's, in eight lanes (the first set's four dimensions,
+/// then the second's). They derive from `sobol_burley::sample_4d`'s own keys for each set's
+/// seed, made as it makes them; of the hash's keys only the low 16 bits are kept, all that
+/// reaches a point's top 16 bits (see `SobolTable`).
+#[derive(Clone, Copy, Debug, Default)]
+struct PairKeys {
+    shuffle: [u32; 2],
+    add: u16x8,
+    multiply: u16x8,
+    jitter: u16x8,
+}
+
+impl PairKeys {
+    /// The keys `sample_4d(_, 0, seed)` uses for each of the two `seeds` (its seed multiplier
+    /// and per-dimension offsets for dimension set 0), so the top 16 bits match the crate's.
+    /// Made once per pixel and pair, so kept out of line: inlined, its registers would crowd
+    /// the per-sample code.
+    #[inline(never)]
+    fn new(seeds: [u32; 2]) -> PairKeys {
+        let offsets: [u32; 4] = [0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8];
+        let hashes: [u32; 8] =
+            std::array::from_fn(|l| parts::hash(seeds[l / 4].wrapping_mul(0x9c8f_2d3b) ^ offsets[l % 4]));
+        // The crate's hash adds its key, then multiplies by the key's top half, made odd.
+        let lanes = |f: fn(u32) -> u16| u16x8::new(hashes.map(f));
+        PairKeys {
+            shuffle: seeds.map(|seed| parts::hash(seed ^ 0x79c6_8e4a)),
+            add: lanes(|h| h as u16),
+            multiply: lanes(|h| (h >> 16) as u16 | 1),
+            jitter: lanes(|h| (h.wrapping_mul(0x9e37_79b9) >> 16) as u16),
+        }
+    }
+}
+
+/// `sobol_burley::sample_4d`'s points, the same top 16 bits, two dimension sets at a time in
+/// fewer instructions than the crate spends on one.
+///
+/// The crate multiplies the (shuffled, bit-reversed) index by the generator matrices one set
+/// bit at a time, a loop whose exit the CPU mispredicts; the product is linear over XOR, so it
+/// is the XOR of the products of the index's two bytes, 256 of each kept here (made once per
+/// render from the crate's own `parts::sobol_int4_rev`).
+///
+/// The crate then Owen-scrambles each dimension with a hash of 32-bit multiplies, which
+/// baseline x86-64 (SSE2) has no instruction for on several lanes. But the sequence has 2¹⁶
+/// points, so a point's coordinates have 16 significant bits, and every step of that hash
+/// (multiply, add, XOR with a multiple) carries only upwards in the bit-reversed word: its low
+/// 16 bits, the point's top 16 once reversed back, depend only on the low 16 bits of what goes
+/// in. So the hash runs on 16-bit lanes, eight in one SSE2 register, two sets' four dimensions
+/// for one `pmullw` per step, and gives the crate's top 16 bits exactly (`tests/sampler.rs`
+/// checks every index). Below them the crate's bits are a hash of the point's cell and seed;
+/// here they are too, a cheaper one: the cell XOR a key per pixel and dimension, times an odd
+/// constant, its top 7 bits (for a random key, a uniform offset within the cell: no bias).
 #[derive(Debug)]
 struct SobolTable {
-    /// `bytes[k][b]`: the four dimensions' product for byte `b` at bits `24 − 8k ..` of the
-    /// bit-reversed index (only its top 16 bits count: the sequence has 2¹⁶ points).
-    bytes: [[[u32; 4]; 256]; 2],
+    /// `bytes[k][b]`: the low 16 bits of the four dimensions' product (dimension `d` in lane
+    /// `d` of four) for byte `b` at bits `24 − 8k ..` of the bit-reversed index (only its top
+    /// 16 bits count).
+    bytes: [[u64; 256]; 2],
 }
 
 impl SobolTable {
     fn new() -> SobolTable {
-        let mut bytes = [[[0; 4]; 256]; 2];
+        let mut bytes = [[0; 256]; 2];
         for (k, products) in bytes.iter_mut().enumerate() {
             for (b, product) in products.iter_mut().enumerate() {
-                *product = parts::sobol_int4_rev((b as u32) << (24 - 8 * k), 0).into();
+                let full: [u32; 4] = parts::sobol_int4_rev((b as u32) << (24 - 8 * k), 0).into();
+                // Four 16-bit lanes in one word, as they lie in memory (any byte order), so that
+                // two words XOR as lanes and are cast to eight lanes without moving any.
+                *product = bytemuck::cast(full.map(|x| x as u16));
             }
         }
         SobolTable { bytes }
     }
 
-    /// The four dimensions of the point of bit-reversed index `index_rev`, scrambled by `keys`,
-    /// as 32-bit fractions.
+    /// The four dimensions of each of two sets for the point of bit-reversed index `index_rev`,
+    /// scrambled by `keys`, as 32-bit fractions with 23 bits set (what an `f32` holds).
     #[inline]
-    fn sample_4d(&self, index_rev: u32, keys: &SetKeys) -> [u32; 4] {
-        let shuffled = parts::owen_scramble_rev(index_rev, keys.shuffle);
-        let [high, low] = [(shuffled >> 24) as usize, (shuffled >> 16 & 0xff) as usize];
-        // The four lanes' scrambles written one lane at a time, not with the crate's `Int4`: the
-        // build targets baseline x86-64, which has no 4 × 32-bit multiply (SSE4.1), and the
-        // compiler vectorises these four lanes into fewer instructions than `Int4`'s emulation
-        // of that multiply (callgrind, the same bits: `Int4` here costs 2.0% more on `final`
-        // and 4.4% more on paper1).
-        let (by_high, by_low) = (self.bytes[0][high], self.bytes[1][low]);
-        let scrambled: [u32; 4] =
-            std::array::from_fn(|d| parts::owen_scramble_rev(by_high[d] ^ by_low[d], keys.dimensions[d]));
-        Int4::from(scrambled).reverse_bits().into()
+    fn pair(&self, index_rev: u32, keys: &PairKeys) -> [u32; 8] {
+        let rows = keys.shuffle.map(|shuffle| {
+            let shuffled = parts::owen_scramble_rev(index_rev, shuffle);
+            self.bytes[0][(shuffled >> 24) as usize] ^ self.bytes[1][(shuffled >> 16 & 0xff) as usize]
+        });
+        // `parts::owen_scramble_rev`'s steps on all eight lanes, with its constants' low 16 bits.
+        let mut x: u16x8 = bytemuck::cast(rows);
+        x ^= x * u16x8::splat(0xadea);
+        x = (x + keys.add) * keys.multiply;
+        x ^= x * u16x8::splat(0x6c56);
+        x ^= x * u16x8::splat(0x2864);
+        let top = reverse_bits(x);
+        // The product's top 7 bits, in place: bits 9 to 15 of the fraction's low half.
+        let below = (((top ^ keys.jitter) * u16x8::splat(0x9e37)) & u16x8::splat(0xfe00)).to_array();
+        let top = top.to_array();
+        std::array::from_fn(|l| u32::from(top[l]) << 16 | u32::from(below[l]))
     }
+}
+
+/// Each lane's 16 bits in reverse order (SSE2 has no instruction for it): swap the bytes, then
+/// the nibbles, the pairs and the bits of each.
+#[inline]
+fn reverse_bits(x: u16x8) -> u16x8 {
+    let swap = |x: u16x8, shift: u32, mask: u16| {
+        let mask = u16x8::splat(mask);
+        (x >> shift & mask) | (x & mask) << shift
+    };
+    swap(swap(swap(x >> 8 | x << 8, 4, 0x0f0f), 2, 0x3333), 1, 0x5555)
 }
 
 /// One pixel sample's numbers from [`SobolStreams`].
@@ -325,10 +375,10 @@ pub struct SobolStream<'a> {
     pixel: &'a SobolPixel<'a>,
     /// The sample's index in the sequence, bits reversed; `None` past [`SOBOL_SAMPLES`].
     index_rev: Option<u32>,
-    /// The numbers of the 4-dimensional set `loaded` (`u32::MAX`: none yet).
-    set: [u32; 4],
+    /// The numbers of the pair of 4-dimensional sets `loaded` (`u32::MAX`: none yet).
+    numbers: [u32; 8],
     loaded: u32,
-    /// The current use's next dimension in `set`, and the end of its dimensions.
+    /// The current use's next lane in `numbers`, and the end of its lanes.
     next: usize,
     end: usize,
     fallback: Fallback,
@@ -343,16 +393,25 @@ struct Fallback {
 }
 
 impl SobolStream<'_> {
-    /// The next numbers are `dimensions` of 4-dimensional set `set`, computed if it is not
-    /// the one loaded. Past the sequence's samples, they are independent numbers.
-    #[inline]
+    /// The next numbers are `dimensions` of 4-dimensional set `set`, computed with the other
+    /// set of its pair if that pair is not the one loaded. Past the sequence's samples, they
+    /// are independent numbers.
+    #[inline(always)]
     fn use_dimensions(&mut self, set: u32, dimensions: std::ops::Range<usize>) {
         let Some(index_rev) = self.index_rev else { return };
-        if self.loaded != set {
-            self.set = self.pixel.table.sample_4d(index_rev, &self.pixel.keys(set));
-            self.loaded = set;
+        if self.loaded != set / 2 {
+            self.load(index_rev, set / 2);
         }
-        (self.next, self.end) = (dimensions.start, dimensions.end);
+        let lane = 4 * (set % 2) as usize;
+        (self.next, self.end) = (lane + dimensions.start, lane + dimensions.end);
+    }
+
+    /// Computes the pair of sets `pair`. Out of line, so that a bounce whose set is already
+    /// loaded (half of them) pays for a comparison, not for saving the registers this needs.
+    #[inline(never)]
+    fn load(&mut self, index_rev: u32, pair: u32) {
+        self.numbers = self.pixel.pair(index_rev, pair);
+        self.loaded = pair;
     }
 
     fn fallback(&mut self) -> &mut SplitMix64 {
@@ -375,9 +434,9 @@ impl rand::TryRng for SobolStream<'_> {
     /// `f32`), or an independent one once they are used up.
     fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
         if self.next < self.end {
-            let v = self.set[self.next];
+            let v = self.numbers[self.next];
             self.next += 1;
-            Ok(v & !0x1ff)
+            Ok(v)
         } else {
             Ok(self.fallback().next_u32())
         }
