@@ -142,8 +142,9 @@ impl PixelStreams for PerSamplePixel {
 /// SSE2 register (`SobolTable`): the camera's with that of bounces 0 and 1 when a sample
 /// starts, sets 2 and 3 (bounces 2 to 5) when a path gets that far. A set took 290
 /// instructions before `SobolTable`, 190 with it, 105 once its scramble keys were made once per
-/// pixel ([`SobolPixel`]); a pair of sets takes about 90 (`results/perf.md`). Past a use's dimensions (Russian roulette's draw after a direction),
-/// or past the sequence's 2¹⁶ samples, the stream falls back to independent numbers seeded
+/// pixel ([`SobolPixel`]); a pair of sets now takes about 100 (`results/perf.md`, ninth pass).
+/// Past a use's dimensions (Russian roulette's draw after a direction), or past the sequence's
+/// 2¹⁶ samples, the stream falls back to independent numbers seeded
 /// like [`PerSample`]'s, so any draw count and any spp work.
 ///
 /// ```
@@ -263,7 +264,7 @@ impl PixelStreams for SobolPixel<'_> {
 }
 
 /// The scramble keys of two dimension sets: each set's index shuffle, and per dimension the
-/// Owen hash's two keys and the jitter's, in eight lanes (the first set's four dimensions,
+/// Owen hash's two keys and the key of the offset within a cell, in eight lanes (the first set's four dimensions,
 /// then the second's). They derive from `sobol_burley::sample_4d`'s own keys for each set's
 /// seed, made as it makes them; of the hash's keys only the low 16 bits are kept, all that
 /// reaches a point's top 16 bits (see `SobolTable`).
@@ -272,7 +273,7 @@ struct PairKeys {
     shuffle: [u32; 2],
     add: u16x8,
     multiply: u16x8,
-    jitter: u16x8,
+    cell_offset: u16x8,
 }
 
 impl PairKeys {
@@ -291,7 +292,7 @@ impl PairKeys {
             shuffle: seeds.map(|seed| parts::hash(seed ^ 0x79c6_8e4a)),
             add: lanes(|h| h as u16),
             multiply: lanes(|h| (h >> 16) as u16 | 1),
-            jitter: lanes(|h| (h.wrapping_mul(0x9e37_79b9) >> 16) as u16),
+            cell_offset: lanes(|h| (h.wrapping_mul(0x9e37_79b9) >> 16) as u16),
         }
     }
 }
@@ -352,7 +353,7 @@ impl SobolTable {
         x ^= x * u16x8::splat(0x2864);
         let top = reverse_bits(x);
         // The product's top 7 bits, in place: bits 9 to 15 of the fraction's low half.
-        let below = (((top ^ keys.jitter) * u16x8::splat(0x9e37)) & u16x8::splat(0xfe00)).to_array();
+        let below = (((top ^ keys.cell_offset) * u16x8::splat(0x9e37)) & u16x8::splat(0xfe00)).to_array();
         let top = top.to_array();
         std::array::from_fn(|l| u32::from(top[l]) << 16 | u32::from(below[l]))
     }
@@ -375,7 +376,8 @@ pub struct SobolStream<'a> {
     pixel: &'a SobolPixel<'a>,
     /// The sample's index in the sequence, bits reversed; `None` past [`SOBOL_SAMPLES`].
     index_rev: Option<u32>,
-    /// The numbers of the pair of 4-dimensional sets `loaded` (`u32::MAX`: none yet).
+    /// The numbers of the pair of 4-dimensional sets `loaded` (from the start, pair 0: the
+    /// camera's set and that of bounces 0 and 1).
     numbers: [u32; 8],
     loaded: u32,
     /// The current use's next lane in `numbers`, and the end of its lanes.
@@ -407,7 +409,8 @@ impl SobolStream<'_> {
     }
 
     /// Computes the pair of sets `pair`. Out of line, so that a bounce whose set is already
-    /// loaded (half of them) pays for a comparison, not for saving the registers this needs.
+    /// loaded (every bounce but 2, 6, 10, …) pays for a comparison, not for saving the
+    /// registers this needs.
     #[inline(never)]
     fn load(&mut self, index_rev: u32, pair: u32) {
         self.numbers = self.pixel.pair(index_rev, pair);
@@ -430,8 +433,8 @@ impl SampleRng for SobolStream<'_> {
 impl rand::TryRng for SobolStream<'_> {
     type Error = std::convert::Infallible;
 
-    /// The current use's next Sobol number (its top 23 bits, as `sobol_burley` gives them as
-    /// `f32`), or an independent one once they are used up.
+    /// The current use's next Sobol number (23 bits, what an `f32` holds: see `SobolTable`),
+    /// or an independent one once they are used up.
     fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
         if self.next < self.end {
             let v = self.numbers[self.next];
@@ -556,5 +559,27 @@ impl PixelStreams for &SharedRng {
 
     fn stream(&self, _sample: u64) -> SharedStream<'_> {
         SharedStream(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_half_of_a_pair_is_its_own_seeds_point() {
+        // `tests/sampler.rs` checks the first half against the crate through `sample_4d`; here
+        // the two halves under different seeds, so a lane taking the other set's key shows.
+        let table = SobolTable::new();
+        for k in 0..256u32 {
+            let seeds = [k.wrapping_mul(0x9E37_79B9), k.wrapping_mul(0x85EB_CA6B) ^ 0x2545_F491];
+            let index = k.wrapping_mul(0x2C1B_3C6D) >> 16;
+            let pair = table.pair(index.reverse_bits(), &PairKeys::new(seeds));
+            for (half, seed) in seeds.into_iter().enumerate() {
+                let crate_cells = sobol_burley::sample_4d(index, 0, seed).map(|x| (x * 65536.0) as u32);
+                let cells: [u32; 4] = std::array::from_fn(|d| pair[4 * half + d] >> 16);
+                assert_eq!(cells, crate_cells, "index {index}, half {half}");
+            }
+        }
     }
 }
