@@ -102,7 +102,8 @@ fn the_sobol_table_computes_the_crates_points_to_the_sequences_resolution() {
             "{index} {scramble}"
         );
         assert!(
-            ours.iter().all(|&x| (0.0..1.0).contains(&x) && x * 8_388_608.0 == (x * 8_388_608.0).floor())
+            ours.iter().all(|&x| (0.0..1.0).contains(&x) && x * 8_388_608.0 == (x * 8_388_608.0).floor()),
+            "{ours:?} should be 23-bit fractions in [0, 1)"
         );
     };
     for index in 0..SOBOL_SAMPLES as u32 {
@@ -120,8 +121,7 @@ fn below_the_sequences_resolution_the_offset_in_the_cell_is_uniform() {
     // The 7 bits below a point's top 16: each of their 128 values equally often over the
     // sequence's 2^16 points, in each dimension, under several scrambles (a chi-squared test
     // with 127 degrees of freedom: 99.9% of uniform draws stay below 181.99), and not a
-    // function of the cell: the same index under different scrambles lands on different
-    // offsets as often as chance says.
+    // function of the cell alone (below).
     let streams = SobolStreams::new(1);
     let offset = |x: f32| (x * 8_388_608.0) as u32 & 0x7f;
     for scramble in [1u32, 0xDEAD_BEEF, 0x0BAD_F00D] {
