@@ -284,8 +284,13 @@ impl PairKeys {
     #[inline(never)]
     fn new(seeds: [u32; 2]) -> PairKeys {
         let offsets: [u32; 4] = [0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8];
-        let hashes: [u32; 8] =
-            std::array::from_fn(|l| parts::hash(seeds[l / 4].wrapping_mul(0x9c8f_2d3b) ^ offsets[l % 4]));
+        // Each set's four dimension hashes by the crate's four-lane hash (as `sample_4d` makes
+        // them): 114 instructions a pair, against 168 by eight calls of its one-lane `hash`.
+        let halves: [[u32; 4]; 2] = seeds.map(|seed| {
+            let dimension_seed = seed.wrapping_mul(0x9c8f_2d3b);
+            parts::hash_int4(offsets.map(|offset| dimension_seed ^ offset).into()).into()
+        });
+        let hashes: [u32; 8] = bytemuck::cast(halves);
         // The crate's hash adds its key, then multiplies by the key's top half, made odd.
         let lanes = |f: fn(u32) -> u16| u16x8::new(hashes.map(f));
         PairKeys {
