@@ -264,10 +264,10 @@ impl PixelStreams for SobolPixel<'_> {
 }
 
 /// The scramble keys of two dimension sets: each set's index shuffle, and per dimension the
-/// Owen hash's two keys and the key of the offset within a cell, in eight lanes (the first set's four dimensions,
-/// then the second's). They derive from `sobol_burley::sample_4d`'s own keys for each set's
-/// seed, made as it makes them; of the hash's keys only the low 16 bits are kept, all that
-/// reaches a point's top 16 bits (see `SobolTable`).
+/// Owen hash's two keys and the key of the offset within a cell, in eight lanes (the first
+/// set's four dimensions, then the second's). They derive from `sobol_burley::sample_4d`'s own
+/// keys for each set's seed, made as it makes them; of the hash's keys only the low 16 bits
+/// are kept, all that reaches a point's top 16 bits (see `SobolTable`).
 #[derive(Clone, Copy, Debug, Default)]
 struct PairKeys {
     shuffle: [u32; 2],
