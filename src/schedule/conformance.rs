@@ -10,7 +10,7 @@
 //! 4. its image equals the `serial` schedule's, byte for byte.
 //!
 //! Rule 3 is checked without a clock, so it cannot be flaky: the check's frame holds every
-//! tile at its start (a [`Rendezvous`]) until `min(T, 37)` tiles are in flight on as many
+//! tile at its start (a `Rendezvous`, below) until `min(T, 37)` tiles are in flight on as many
 //! threads, then lets them all go. A scheduler with that many threads rendering always gets
 //! there; one that renders on the calling thread, or lets each thread finish before the next
 //! starts, never does, and the check gives up after [`PATIENCE`] with a message that says so.
