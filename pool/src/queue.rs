@@ -41,7 +41,7 @@ impl Job {
 }
 
 /// A job taken from a queue, and whether it was taken from another worker's deque (which
-/// the pool counts in [`WorkerStats::stolen`](crate::WorkerStats::stolen)).
+/// the pool counts in [`WorkerStats::jobs_stolen`](crate::WorkerStats::jobs_stolen)).
 pub struct Popped {
     /// The job.
     pub job: Job,
