@@ -137,12 +137,17 @@ impl PixelStreams for PerSamplePixel {
 /// (a scattered direction takes two, the glass choice one). Sets are "padded" as Burley
 /// recommends: the same four best Sobol dimensions, decorrelated by a different scramble seed
 /// per set, so bounces do not correlate with the camera or with bounces of other sets, and the
-/// two bounces of one set are stratified jointly, as four dimensions of one sequence. Sets are
+/// two bounces of one set are stratified jointly, as four dimensions of one sequence. As in
+/// Burley's paper, each set also shuffles the sample index (a nested scramble, so a pixel's
+/// first 2ᵏ samples still take the sequence's first 2ᵏ points): all but the camera's set,
+/// which needs none, since the others' shuffles, each independent, already decorrelate them
+/// from it; unshuffled, its index is read without reversing its bits. Sets are
 /// the sampler's main cost, so they are made two at a time, in the eight 16-bit lanes of one
 /// SSE2 register (`SobolTable`): the camera's with that of bounces 0 and 1 when a sample
 /// starts, sets 2 and 3 (bounces 2 to 5) when a path gets that far. A set took 290
 /// instructions before `SobolTable`, 190 with it, 105 once its scramble keys were made once per
-/// pixel ([`SobolPixel`]); a pair of sets now takes about 100 (`results/perf.md`, ninth pass).
+/// pixel ([`SobolPixel`]); a pair of sets about 100, and the first pair about 80 once the
+/// camera's set was left unshuffled (`results/perf.md`, ninth and tenth passes).
 /// Past a use's dimensions (Russian roulette's draw after a direction), or past the sequence's
 /// 2¹⁶ samples, the stream falls back to independent numbers seeded
 /// like [`PerSample`]'s, so any draw count and any spp work.
@@ -225,18 +230,31 @@ pub struct SobolPixel<'a> {
 
 impl SobolPixel<'_> {
     /// The points of bit-reversed index `index_rev` in dimension sets `2 pair` and
-    /// `2 pair + 1`, with the pair's keys kept from an earlier sample if it is one of the first.
+    /// `2 pair + 1` (`pair` ≥ 1; the first pair is [`Self::first_pair`]'s).
     #[inline]
     fn pair(&self, index_rev: u32, pair: u32) -> [u32; 8] {
+        self.table.pair(index_rev, &self.keys(pair))
+    }
+
+    /// Sample `sample`'s camera set and that of bounces 0 and 1, and its bit-reversed index.
+    #[inline]
+    fn first_pair(&self, sample: u32) -> ([u32; 8], u32) {
+        self.table.first_pair(sample, &self.keys(0))
+    }
+
+    /// The keys of dimension sets `2 pair` and `2 pair + 1`, kept from an earlier sample if
+    /// they are among the first.
+    #[inline]
+    fn keys(&self, pair: u32) -> PairKeys {
         let make = || PairKeys::new([0, 1].map(|k| mix(self.seed ^ u64::from(2 * pair + k)) as u32));
-        let Some(kept) = self.keys.get(pair as usize) else { return self.table.pair(index_rev, &make()) };
+        let Some(kept) = self.keys.get(pair as usize) else { return make() };
         let bit = 1 << pair;
         if self.made.get() & bit == 0 {
             kept.set(make());
             self.made.set(self.made.get() | bit);
         }
         // Read back from where they are kept, so each group of eight lanes is one load.
-        self.table.pair(index_rev, &kept.get())
+        kept.get()
     }
 }
 
@@ -248,13 +266,19 @@ impl PixelStreams for SobolPixel<'_> {
 
     #[inline]
     fn stream(&self, sample: u64) -> SobolStream<'_> {
-        let index_rev = (sample < SOBOL_SAMPLES).then(|| (sample as u32).reverse_bits());
         // The camera's set and bounces 0 and 1's, computed here in line: every sample needs
         // the first, almost every one the second.
+        let (numbers, index_rev) = match sample < SOBOL_SAMPLES {
+            true => {
+                let (numbers, index_rev) = self.first_pair(sample as u32);
+                (numbers, Some(index_rev))
+            }
+            false => (Default::default(), None),
+        };
         SobolStream {
             pixel: self,
             index_rev,
-            numbers: index_rev.map_or(Default::default(), |index_rev| self.pair(index_rev, 0)),
+            numbers,
             loaded: 0,
             next: 0,
             end: if index_rev.is_some() { 4 } else { 0 },
@@ -270,6 +294,7 @@ impl PixelStreams for SobolPixel<'_> {
 /// are kept, all that reaches a point's top 16 bits (see `SobolTable`).
 #[derive(Clone, Copy, Debug, Default)]
 struct PairKeys {
+    /// Each set's index shuffle (the camera's, in the first pair, unused: it is not shuffled).
     shuffle: [u32; 2],
     add: u16x8,
     multiply: u16x8,
@@ -326,6 +351,14 @@ struct SobolTable {
     /// `d` of four) for byte `b` at bits `24 − 8k ..` of the bit-reversed index (only its top
     /// 16 bits count).
     bytes: [[u64; 256]; 2],
+    /// The same rows indexed by the sample's own bytes: `by_sample[k][b]` is `bytes[k]` at `b`
+    /// reversed, for byte `k` of an index that is not shuffled (the camera's set's), so that
+    /// it is read without reversing the index.
+    by_sample: [[u64; 256]; 2],
+    /// `reversed[k][b]`: byte `k` of a sample index, `b`, with its bits reversed into bits
+    /// `24 − 8k ..`: the index reversed in two loads, where the CPU has no instruction for it
+    /// (bit tricks took 17).
+    reversed: [[u32; 256]; 2],
 }
 
 impl SobolTable {
@@ -339,17 +372,42 @@ impl SobolTable {
                 *product = bytemuck::cast(full.map(|x| x as u16));
             }
         }
-        SobolTable { bytes }
+        let reverse = |b: usize| usize::from((b as u8).reverse_bits());
+        SobolTable {
+            by_sample: std::array::from_fn(|k| std::array::from_fn(|b| bytes[k][reverse(b)])),
+            reversed: std::array::from_fn(|k| std::array::from_fn(|b| (reverse(b) as u32) << (24 - 8 * k))),
+            bytes,
+        }
     }
 
     /// The four dimensions of each of two sets for the point of bit-reversed index `index_rev`,
     /// scrambled by `keys`, as 32-bit fractions with 23 bits set (what an `f32` holds).
     #[inline]
     fn pair(&self, index_rev: u32, keys: &PairKeys) -> [u32; 8] {
-        let rows = keys.shuffle.map(|shuffle| {
-            let shuffled = parts::owen_scramble_rev(index_rev, shuffle);
-            self.bytes[0][(shuffled >> 24) as usize] ^ self.bytes[1][(shuffled >> 16 & 0xff) as usize]
-        });
+        Self::scramble(keys.shuffle.map(|shuffle| self.shuffled_row(index_rev, shuffle)), keys)
+    }
+
+    /// The first pair of sample `sample` (below [`SOBOL_SAMPLES`]): as [`Self::pair`], but the
+    /// first set, the camera's, takes the sample's own index, unshuffled (see
+    /// [`SobolStreams`]); with the index bit-reversed, which later pairs need.
+    #[inline]
+    fn first_pair(&self, sample: u32, keys: &PairKeys) -> ([u32; 8], u32) {
+        let bytes = [sample & 0xff, sample >> 8 & 0xff].map(|b| b as usize);
+        let index_rev = self.reversed[0][bytes[0]] | self.reversed[1][bytes[1]];
+        let camera = self.by_sample[0][bytes[0]] ^ self.by_sample[1][bytes[1]];
+        (Self::scramble([camera, self.shuffled_row(index_rev, keys.shuffle[1])], keys), index_rev)
+    }
+
+    /// One set's four dimensions, unscrambled, at the index `index_rev` shuffled by `shuffle`.
+    #[inline]
+    fn shuffled_row(&self, index_rev: u32, shuffle: u32) -> u64 {
+        let shuffled = parts::owen_scramble_rev(index_rev, shuffle);
+        self.bytes[0][(shuffled >> 24) as usize] ^ self.bytes[1][(shuffled >> 16 & 0xff) as usize]
+    }
+
+    /// Two sets' rows (four lanes each), Owen scrambled by `keys`, with the offsets below.
+    #[inline]
+    fn scramble(rows: [u64; 2], keys: &PairKeys) -> [u32; 8] {
         // `parts::owen_scramble_rev`'s steps on all eight lanes, with its constants' low 16 bits.
         let mut x: u16x8 = bytemuck::cast(rows);
         x ^= x * u16x8::splat(0xadea);
@@ -585,6 +643,31 @@ mod tests {
                 let cells: [u32; 4] = std::array::from_fn(|d| pair[4 * half + d] >> 16);
                 assert_eq!(cells, crate_cells, "index {index}, half {half}");
             }
+        }
+    }
+
+    #[test]
+    fn the_first_pair_leaves_the_camera_set_unshuffled_and_shuffles_the_second() {
+        // The crate always shuffles the index; its parts give the unshuffled point.
+        let table = SobolTable::new();
+        for k in 0..256u32 {
+            let seeds = [k.wrapping_mul(0x9E37_79B9), k.wrapping_mul(0x85EB_CA6B) ^ 0x2545_F491];
+            let sample = k.wrapping_mul(0x2C1B_3C6D) >> 16;
+            let (pair, index_rev) = table.first_pair(sample, &PairKeys::new(seeds));
+            assert_eq!(index_rev, sample.reverse_bits());
+            let dimension_seed = seeds[0].wrapping_mul(0x9c8f_2d3b);
+            let keys =
+                [0x912f_69ba, 0x174f_18ab, 0x691e_72ca, 0xb40c_c1b8].map(|offset| dimension_seed ^ offset);
+            let point = parts::owen_scramble_int4_rev(
+                parts::sobol_int4_rev(index_rev, 0),
+                parts::hash_int4(keys.into()),
+            );
+            let camera: [u32; 4] = point.reverse_bits().into();
+            let cells: [u32; 4] = std::array::from_fn(|d| pair[d] >> 16);
+            assert_eq!(cells, camera.map(|x| x >> 16), "sample {sample}, the camera's set");
+            let crate_cells = sobol_burley::sample_4d(sample, 0, seeds[1]).map(|x| (x * 65536.0) as u32);
+            let cells: [u32; 4] = std::array::from_fn(|d| pair[4 + d] >> 16);
+            assert_eq!(cells, crate_cells, "sample {sample}, the second set");
         }
     }
 }
