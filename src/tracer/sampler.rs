@@ -146,7 +146,7 @@ impl PixelStreams for PerSamplePixel {
 /// SSE2 register (`SobolTable`): the camera's with that of bounces 0 and 1 when a sample
 /// starts, sets 2 and 3 (bounces 2 to 5) when a path gets that far. A set took 290
 /// instructions before `SobolTable`, 190 with it, 105 once its scramble keys were made once per
-/// pixel ([`SobolPixel`]); a pair of sets about 100, and the first pair about 80 once the
+/// pixel ([`SobolPixel`]); a pair of sets about 100, and the first pair about 75 once the
 /// camera's set was left unshuffled (`results/perf.md`, ninth and tenth passes).
 /// Past a use's dimensions (Russian roulette's draw after a direction), or past the sequence's
 /// 2¹⁶ samples, the stream falls back to independent numbers seeded
