@@ -629,19 +629,33 @@ impl PixelStreams for &SharedRng {
 mod tests {
     use super::*;
 
+    /// 256 cases of (the seeds of a pair's two sets, a sample index), spread over both.
+    fn cases() -> impl Iterator<Item = ([u32; 2], u32)> {
+        (0..256u32).map(|k| {
+            let seeds = [k.wrapping_mul(0x9E37_79B9), k.wrapping_mul(0x85EB_CA6B) ^ 0x2545_F491];
+            (seeds, k.wrapping_mul(0x2C1B_3C6D) >> 16)
+        })
+    }
+
+    /// The cells (top 16 bits) of half `half` of a pair.
+    fn cells(pair: [u32; 8], half: usize) -> [u32; 4] {
+        std::array::from_fn(|d| pair[4 * half + d] >> 16)
+    }
+
+    /// The cells of the crate's point `index` of dimension set 0 under `seed` (index shuffled).
+    fn crate_cells(index: u32, seed: u32) -> [u32; 4] {
+        sobol_burley::sample_4d(index, 0, seed).map(|x| (x * 65536.0) as u32)
+    }
+
     #[test]
     fn each_half_of_a_pair_is_its_own_seeds_point() {
         // `tests/sampler.rs` checks the first half against the crate through `sample_4d`; here
         // the two halves under different seeds, so a lane taking the other set's key shows.
         let table = SobolTable::new();
-        for k in 0..256u32 {
-            let seeds = [k.wrapping_mul(0x9E37_79B9), k.wrapping_mul(0x85EB_CA6B) ^ 0x2545_F491];
-            let index = k.wrapping_mul(0x2C1B_3C6D) >> 16;
+        for (seeds, index) in cases() {
             let pair = table.pair(index.reverse_bits(), &PairKeys::new(seeds));
             for (half, seed) in seeds.into_iter().enumerate() {
-                let crate_cells = sobol_burley::sample_4d(index, 0, seed).map(|x| (x * 65536.0) as u32);
-                let cells: [u32; 4] = std::array::from_fn(|d| pair[4 * half + d] >> 16);
-                assert_eq!(cells, crate_cells, "index {index}, half {half}");
+                assert_eq!(cells(pair, half), crate_cells(index, seed), "index {index}, half {half}");
             }
         }
     }
@@ -650,9 +664,7 @@ mod tests {
     fn the_first_pair_leaves_the_camera_set_unshuffled_and_shuffles_the_second() {
         // The crate always shuffles the index; its parts give the unshuffled point.
         let table = SobolTable::new();
-        for k in 0..256u32 {
-            let seeds = [k.wrapping_mul(0x9E37_79B9), k.wrapping_mul(0x85EB_CA6B) ^ 0x2545_F491];
-            let sample = k.wrapping_mul(0x2C1B_3C6D) >> 16;
+        for (seeds, sample) in cases() {
             let (pair, index_rev) = table.first_pair(sample, &PairKeys::new(seeds));
             assert_eq!(index_rev, sample.reverse_bits());
             let dimension_seed = seeds[0].wrapping_mul(0x9c8f_2d3b);
@@ -663,11 +675,8 @@ mod tests {
                 parts::hash_int4(keys.into()),
             );
             let camera: [u32; 4] = point.reverse_bits().into();
-            let cells: [u32; 4] = std::array::from_fn(|d| pair[d] >> 16);
-            assert_eq!(cells, camera.map(|x| x >> 16), "sample {sample}, the camera's set");
-            let crate_cells = sobol_burley::sample_4d(sample, 0, seeds[1]).map(|x| (x * 65536.0) as u32);
-            let cells: [u32; 4] = std::array::from_fn(|d| pair[4 + d] >> 16);
-            assert_eq!(cells, crate_cells, "sample {sample}, the second set");
+            assert_eq!(cells(pair, 0), camera.map(|x| x >> 16), "sample {sample}, the camera's set");
+            assert_eq!(cells(pair, 1), crate_cells(sample, seeds[1]), "sample {sample}, the second set");
         }
     }
 }
