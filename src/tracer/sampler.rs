@@ -139,10 +139,11 @@ impl PixelStreams for PerSamplePixel {
 /// per set, so bounces do not correlate with the camera or with bounces of other sets, and the
 /// two bounces of one set are stratified jointly, as four dimensions of one sequence. As in
 /// Burley's paper, each set also shuffles the sample index (a nested scramble, so a pixel's
-/// first 2ᵏ samples still take the sequence's first 2ᵏ points): all but the camera's set,
-/// which needs none, since the others' shuffles, each independent, already decorrelate them
-/// from it; unshuffled, its index is read without reversing its bits. Sets are
-/// the sampler's main cost, so they are made two at a time, in the eight 16-bit lanes of one
+/// first 2ᵏ samples still take an aligned block of 2ᵏ points, a net as the first 2ᵏ are; which
+/// block depends on the set's key): all but the camera's set, which needs none, since the
+/// others' shuffles, each independent, already decorrelate them from it; unshuffled, it takes
+/// the first block, and its index is read without reversing its bits. Sets are the sampler's
+/// main cost, so they are made two at a time, in the eight 16-bit lanes of one
 /// SSE2 register (`SobolTable`): the camera's with that of bounces 0 and 1 when a sample
 /// starts, sets 2 and 3 (bounces 2 to 5) when a path gets that far. A set took 290
 /// instructions before `SobolTable`, 190 with it, 105 once its scramble keys were made once per
