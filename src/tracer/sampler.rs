@@ -129,7 +129,8 @@ impl PixelStreams for PerSamplePixel {
     }
 }
 
-/// Owen-scrambled Sobol streams: sample `s` of pixel `p` is point `s` of a Sobol sequence
+/// Owen-scrambled Sobol streams: sample `s` of pixel `p` takes point `s` of a Sobol sequence
+/// (in the camera's dimensions; in the others, point `s` of the index shuffled per set, below)
 /// scrambled by a seed made from `(render seed, p)`.
 ///
 /// Each use of random numbers gets its own dimensions of a 4-dimensional set: the camera all
@@ -142,7 +143,10 @@ impl PixelStreams for PerSamplePixel {
 /// first 2ᵏ samples still take an aligned block of 2ᵏ points, a net as the first 2ᵏ are; which
 /// block depends on the set's key): all but the camera's set, which needs none, since the
 /// others' shuffles, each independent, already decorrelate them from it; unshuffled, it takes
-/// the first block, and its index is read without reversing its bits. Sets are the sampler's
+/// the first block, and its index is read without reversing its bits. (Which block changes
+/// nothing on its own: Sobol points are linear over XOR, so another block is the first one
+/// XORed with a constant point, and the pixel's Owen scramble of the values absorbs such a
+/// shift.) Sets are the sampler's
 /// main cost, so they are made two at a time, in the eight 16-bit lanes of one
 /// SSE2 register (`SobolTable`): the camera's with that of bounces 0 and 1 when a sample
 /// starts, sets 2 and 3 (bounces 2 to 5) when a path gets that far. A set took 290
@@ -231,7 +235,7 @@ pub struct SobolPixel<'a> {
 
 impl SobolPixel<'_> {
     /// The points of bit-reversed index `index_rev` in dimension sets `2 pair` and
-    /// `2 pair + 1` (`pair` ≥ 1; the first pair is [`Self::first_pair`]'s).
+    /// `2 pair + 1`, for a pair after the first (the first pair is [`Self::first_pair`]'s).
     #[inline]
     fn pair(&self, index_rev: u32, pair: u32) -> [u32; 8] {
         self.table.pair(index_rev, &self.keys(pair))
@@ -382,7 +386,7 @@ impl SobolTable {
     }
 
     /// The four dimensions of each of two sets for the point of bit-reversed index `index_rev`,
-    /// scrambled by `keys`, as 32-bit fractions with 23 bits set (what an `f32` holds).
+    /// scrambled by `keys`, as 32-bit fractions with 23 significant bits (what an `f32` holds).
     #[inline]
     fn pair(&self, index_rev: u32, keys: &PairKeys) -> [u32; 8] {
         Self::scramble(keys.shuffle.map(|shuffle| self.shuffled_row(index_rev, shuffle)), keys)
@@ -393,6 +397,7 @@ impl SobolTable {
     /// [`SobolStreams`]); with the index bit-reversed, which later pairs need.
     #[inline]
     fn first_pair(&self, sample: u32, keys: &PairKeys) -> ([u32; 8], u32) {
+        debug_assert!(u64::from(sample) < SOBOL_SAMPLES, "sample {sample} is past the sequence");
         let bytes = [sample & 0xff, sample >> 8 & 0xff].map(|b| b as usize);
         let index_rev = self.reversed[0][bytes[0]] | self.reversed[1][bytes[1]];
         let camera = self.by_sample[0][bytes[0]] ^ self.by_sample[1][bytes[1]];
@@ -630,11 +635,11 @@ impl PixelStreams for &SharedRng {
 mod tests {
     use super::*;
 
-    /// 256 cases of (the seeds of a pair's two sets, a sample index), spread over both.
+    /// Every sample index of the sequence, each with its own seeds for a pair's two sets.
     fn cases() -> impl Iterator<Item = ([u32; 2], u32)> {
-        (0..256u32).map(|k| {
-            let seeds = [k.wrapping_mul(0x9E37_79B9), k.wrapping_mul(0x85EB_CA6B) ^ 0x2545_F491];
-            (seeds, k.wrapping_mul(0x2C1B_3C6D) >> 16)
+        (0..SOBOL_SAMPLES as u32).map(|index| {
+            let k = index.wrapping_mul(0x2C1B_3C6D);
+            ([k.wrapping_mul(0x9E37_79B9), k.wrapping_mul(0x85EB_CA6B) ^ 0x2545_F491], index)
         })
     }
 
