@@ -146,16 +146,17 @@ impl PixelStreams for PerSamplePixel {
 /// the first block, and its index is read without reversing its bits. (Which block changes
 /// nothing on its own: Sobol points are linear over XOR, so another block is the first one
 /// XORed with a constant point, and the pixel's Owen scramble of the values absorbs such a
-/// shift.) Sets are the sampler's
-/// main cost, so they are made two at a time, in the eight 16-bit lanes of one
-/// SSE2 register (`SobolTable`): the camera's with that of bounces 0 and 1 when a sample
+/// shift.)
+///
+/// Sets are the sampler's main cost, so they are made two at a time, in the eight 16-bit lanes
+/// of one SSE2 register (`SobolTable`): the camera's with that of bounces 0 and 1 when a sample
 /// starts, sets 2 and 3 (bounces 2 to 5) when a path gets that far. A set took 290
 /// instructions before `SobolTable`, 190 with it, 105 once its scramble keys were made once per
 /// pixel ([`SobolPixel`]); a pair of sets about 100, and the first pair about 75 once the
-/// camera's set was left unshuffled (`results/perf.md`, ninth and tenth passes).
-/// Past a use's dimensions (Russian roulette's draw after a direction), or past the sequence's
-/// 2¹⁶ samples, the stream falls back to independent numbers seeded
-/// like [`PerSample`]'s, so any draw count and any spp work.
+/// camera's set was left unshuffled (`results/perf.md`, ninth and tenth passes). Past a use's
+/// dimensions (Russian roulette's draw after a direction), or past the sequence's 2¹⁶ samples,
+/// the stream falls back to independent numbers seeded like [`PerSample`]'s, so any draw count
+/// and any spp work.
 ///
 /// ```
 /// use raypool::tracer::sampler::{PixelStreams, RandomStreams, SobolStreams, uniform};
@@ -273,12 +274,11 @@ impl PixelStreams for SobolPixel<'_> {
     fn stream(&self, sample: u64) -> SobolStream<'_> {
         // The camera's set and bounces 0 and 1's, computed here in line: every sample needs
         // the first, almost every one the second.
-        let (numbers, index_rev) = match sample < SOBOL_SAMPLES {
-            true => {
-                let (numbers, index_rev) = self.first_pair(sample as u32);
-                (numbers, Some(index_rev))
-            }
-            false => (Default::default(), None),
+        let (numbers, index_rev) = if sample < SOBOL_SAMPLES {
+            let (numbers, index_rev) = self.first_pair(sample as u32);
+            (numbers, Some(index_rev))
+        } else {
+            (Default::default(), None)
         };
         SobolStream {
             pixel: self,
