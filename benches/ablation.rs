@@ -12,13 +12,17 @@ use std::time::Instant;
 use raypool::files::image::Image;
 use raypool::measure::machine::{Machine, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::schedule::frame::{Frame, RngSource};
+use raypool::schedule::frame::Frame;
 use raypool::schedule::modes::{Schedule, render};
-use raypool::tracer::real::to_f64;
+use raypool::schedule::random::RngSource;
+use raypool::schedule::random::SharedRng;
+use raypool::tracer::geometry::sphere::Intersection;
+use raypool::tracer::math::real::to_f64;
 use raypool::tracer::render::{RenderJob, RenderSettings};
-use raypool::tracer::sampler::{PerSample, SharedRng, SobolStreams};
+use raypool::tracer::sampling::independent::PerSample;
+use raypool::tracer::sampling::sampler::Sampler;
+use raypool::tracer::sampling::sobol::SobolStreams;
 use raypool::tracer::scene::{Accel, Scene};
-use raypool::tracer::sphere::Intersection;
 
 /// One row of the table: a change to the default renderer.
 struct Variant {
@@ -150,7 +154,15 @@ fn largest_difference(a: &Image, b: &Image) -> f64 {
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
     let (width, height, spp) = if quick { (300, 200, 16) } else { (600, 400, 64) };
-    let base = RenderSettings { width, height, spp, max_depth: 50, seed: 1, ..Default::default() };
+    let base = RenderSettings {
+        width,
+        height,
+        spp,
+        max_depth: 50,
+        seed: 1,
+        sampler: Sampler::Independent,
+        ..Default::default()
+    };
     let mut measured: Vec<Option<Measured>> = VARIANTS.iter().map(|_| None).collect();
     for round in 0..3 {
         for (variant, slot) in VARIANTS.iter().zip(measured.iter_mut()) {

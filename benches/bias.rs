@@ -15,10 +15,11 @@ use std::sync::Arc;
 use raypool::measure::convergence::Reference;
 use raypool::measure::machine::{Machine, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::schedule::frame::{Frame, RngSource};
+use raypool::schedule::frame::Frame;
 use raypool::schedule::modes::{Schedule, render};
+use raypool::schedule::random::{RngChoice, RngSource};
 use raypool::tracer::render::{Adaptive, RenderJob, RenderSettings};
-use raypool::tracer::sampler::Sampler;
+use raypool::tracer::sampling::sampler::Sampler;
 use raypool::tracer::scene::Scene;
 
 /// A method: its name and how it changes the uniform settings.
@@ -39,7 +40,13 @@ fn adaptive(s: RenderSettings) -> RenderSettings {
 
 fn image_mean(scene: &Scene, settings: RenderSettings, threads: usize) -> f64 {
     let job = RenderJob::new(scene.clone(), settings);
-    let frame = Arc::new(Frame::new(job, RngSource::streams(&settings), threads, 16, Arc::new(|_| {})));
+    let frame = Arc::new(Frame::new(
+        job,
+        RngSource::new(&settings, RngChoice::PerSample),
+        threads,
+        16,
+        Arc::new(|_| {}),
+    ));
     render(&frame, &Schedule::Stealing).image.mean()
 }
 
@@ -60,7 +67,14 @@ fn main() {
 
     // 1. Against a converged reference.
     let (seeds, reference_spp) = if quick { (100, 2048) } else { (400, 8192) };
-    let base = RenderSettings { width: 48, height: 32, spp: 64, max_depth: 20, ..Default::default() };
+    let base = RenderSettings {
+        width: 48,
+        height: 32,
+        spp: 64,
+        max_depth: 20,
+        sampler: Sampler::Independent,
+        ..Default::default()
+    };
     let scene = scene_of("paper1");
     let reference = Reference::render(&scene, base, reference_spp, threads);
     let reference_mean = reference.image.mean();
@@ -93,7 +107,14 @@ fn main() {
 
     // 2. Paired with independent uniform sampling.
     let seeds = if quick { 64 } else { 256 };
-    let base = RenderSettings { width: 32, height: 21, spp: 16, max_depth: 50, ..Default::default() };
+    let base = RenderSettings {
+        width: 32,
+        height: 21,
+        spp: 16,
+        max_depth: 50,
+        sampler: Sampler::Independent,
+        ..Default::default()
+    };
     let _ = write!(
         md,
         "\n## Paired with independent uniform sampling\n\n{} × {}, {} spp (adaptive: E 0.1, \

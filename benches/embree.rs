@@ -28,11 +28,12 @@ use raypool::measure::compare::metrics;
 use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::speedup::median;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::tracer::ray::Ray;
-use raypool::tracer::real::{Real, to_f32};
+use raypool::tracer::geometry::hit::Hit;
+use raypool::tracer::math::ray::Ray;
+use raypool::tracer::math::real::{Real, to_f32};
 use raypool::tracer::render::{RenderJob, RenderSettings, TileOutput, render_tile_with};
-use raypool::tracer::sampler::PerSample;
-use raypool::tracer::sphere::Hit;
+use raypool::tracer::sampling::independent::PerSample;
+use raypool::tracer::sampling::sampler::Sampler;
 use raypool::tracer::tile::Tile;
 
 /// One render: its pixels (row-major linear RGB), rays cast and seconds.
@@ -88,6 +89,7 @@ fn main() {
         spp: options.spp,
         max_depth: 50,
         seed: 1,
+        sampler: Sampler::Independent,
         ..RenderSettings::default()
     };
     let job = RenderJob::new(scene, settings);

@@ -22,10 +22,10 @@ use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::plot::{LogSeries, log_log_plot};
 use raypool::measure::speedup::median;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::tracer::real::{Real, to_f64, vec3};
+use raypool::tracer::math::real::{Real, to_f64, vec3};
 use raypool::tracer::render::default_height;
 use raypool::tracer::render::{Adaptive, RenderSettings};
-use raypool::tracer::sampler::Sampler;
+use raypool::tracer::sampling::sampler::Sampler;
 
 /// The uniform methods: (name, sampler, Russian roulette).
 const METHODS: [(&str, Sampler, bool); 4] = [

@@ -7,7 +7,7 @@ use std::fmt::Write as _;
 
 use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::stress::cases;
-use raypool::tracer::sphere::Intersection;
+use raypool::tracer::geometry::sphere::Intersection;
 
 const PRECISION: &str = if cfg!(feature = "f64") { "f64" } else { "f32" };
 const METHODS: [(&str, Intersection); 2] =

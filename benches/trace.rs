@@ -15,12 +15,13 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
 use raypool::scenes::builtin::builtin_scene;
-use raypool::tracer::material::Material;
-use raypool::tracer::ray::Ray;
-use raypool::tracer::real::{Real, Vec3};
-use raypool::tracer::sampler::random_unit_vector;
+use raypool::tracer::geometry::hit::Hit;
+use raypool::tracer::geometry::sphere::Sphere;
+use raypool::tracer::math::ray::Ray;
+use raypool::tracer::math::real::{Real, Vec3};
+use raypool::tracer::sampling::warp::random_unit_vector;
 use raypool::tracer::scene::Accel;
-use raypool::tracer::sphere::{Hit, Sphere};
+use raypool::tracer::shading::material::Material;
 
 const RAYS: usize = 4096;
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The coefficients of `src/tracer/turn.rs`: sin(pi f) = f P(f^2), cos(pi f) = 1 + f^2 Q(f^2)
+"""The coefficients of `src/tracer/math/turn.rs`: sin(pi f) = f P(f^2), cos(pi f) = 1 + f^2 Q(f^2)
 on f in [-1/2, 1/2], P and Q of degree 4, by the Remez exchange algorithm in f64.
 
     python3 benches/turn_fit.py

@@ -5,7 +5,7 @@
 //!
 //! | layer | what it holds |
 //! |---|---|
-//! | [`tracer`] | the book's tracer in the book's order: [`tracer::real`], [`tracer::ray`], [`tracer::sphere`], [`tracer::material`], [`tracer::camera`], [`tracer::background`], [`tracer::packet`], [`tracer::bvh`], [`tracer::wide`], [`tracer::scene`], [`tracer::sampler`], [`tracer::tile`], and [`tracer::render`], the one render loop |
+//! | [`tracer`] | the book's tracer, in rooms: [`tracer::math`] (numbers, rays), [`tracer::sampling`] (random numbers), [`tracer::geometry`] (shapes, hits), [`tracer::shading`] (materials, background), [`tracer::accel`] (the trees), [`tracer::scene`], [`tracer::camera`], [`tracer::tile`], and [`tracer::render`], the one render loop |
 //! | [`scenes`] | scenes as data: the TOML [`scenes::format`] and the [`scenes::builtin`] scenes |
 //! | [`files`] | the frame buffer ([`files::image`]), the PNG/PPM/PFM writers ([`files::output`]) and the part files of sharded renders ([`files::part`]) |
 //! | [`schedule`] | who renders which tile: [`schedule::frame`] (a render in progress), the [`schedule::modes`], [`schedule::progressive`] passes and the [`schedule::conformance`] check |
@@ -36,7 +36,8 @@ mod readme {}
 pub use error::Error;
 pub use files::image::Image;
 pub use scenes::format::SceneFile;
-pub use schedule::frame::{Frame, RngSource};
+pub use schedule::frame::Frame;
 pub use schedule::modes::{Schedule, Scheduler};
+pub use schedule::random::{RngChoice, RngSource};
 pub use tracer::render::{RenderJob, RenderSettings, TileOutput};
 pub use tracer::tile::{Shard, Tile};

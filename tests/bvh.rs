@@ -9,17 +9,19 @@ use std::sync::Arc;
 
 use deadline::within;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::schedule::frame::{Frame, RngSource};
+use raypool::schedule::frame::Frame;
 use raypool::schedule::modes::{Schedule, render};
-use raypool::tracer::bvh::Bvh;
-use raypool::tracer::packet::Packet;
-use raypool::tracer::ray::Ray;
-use raypool::tracer::real::{Real, Vec3};
+use raypool::schedule::random::RngSource;
+use raypool::tracer::accel::bvh::Bvh;
+use raypool::tracer::accel::packet::Packet;
+use raypool::tracer::accel::wide::WideBvh;
+use raypool::tracer::geometry::hit::Closest;
+use raypool::tracer::geometry::sphere::Sphere;
+use raypool::tracer::math::ray::Ray;
+use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::render::{RenderJob, RenderSettings};
-use raypool::tracer::sampler::PerSample;
+use raypool::tracer::sampling::independent::PerSample;
 use raypool::tracer::scene::Accel;
-use raypool::tracer::sphere::{Closest, Sphere};
-use raypool::tracer::wide::WideBvh;
 
 fn brute_force(spheres: &[Sphere], ray: &Ray) -> Option<(usize, Real)> {
     let mut best = None;

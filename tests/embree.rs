@@ -18,9 +18,9 @@ fn embree_finds_the_hits_raypool_finds() {
     use library::{EmbreeSpheres, Variant};
     use raypool::measure::compare::metrics;
     use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-    use raypool::tracer::real::to_f32;
+    use raypool::tracer::math::real::to_f32;
     use raypool::tracer::render::{RenderJob, RenderSettings, TileOutput, render_tile, render_tile_with};
-    use raypool::tracer::sampler::PerSample;
+    use raypool::tracer::sampling::independent::PerSample;
     use raypool::tracer::tile::Tile;
 
     let scene = builtin_scene("final", DEFAULT_SCENE_SEED).unwrap().to_scene();

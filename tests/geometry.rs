@@ -1,9 +1,9 @@
 //! Ray–sphere intersection and camera geometry.
 
 use raypool::tracer::camera::{Camera, CameraSettings};
-use raypool::tracer::ray::Ray;
-use raypool::tracer::real::{Real, Vec3};
-use raypool::tracer::sphere::Sphere;
+use raypool::tracer::geometry::sphere::Sphere;
+use raypool::tracer::math::ray::Ray;
+use raypool::tracer::math::real::{Real, Vec3};
 
 fn unit_sphere() -> Sphere {
     Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }

@@ -1,13 +1,15 @@
 //! The source tree shows the architecture: `src/` holds the top-level files and one folder per
-//! layer, a module uses only its own folder and the layers below it, and no two modules import
-//! each other, directly or through others.
+//! layer, a module uses only its own folder and the layers below it, the tracer's rooms use
+//! only the rooms before them, no two modules of either crate import each other, directly or
+//! through others, and no source file grows past what a student reads in one sitting.
 //!
-//! Run it alone with `cargo test --release --test layers`. It reads `src/` as text: every
-//! `crate::a::b` and `super::b` path outside comments is an edge from the file that writes it
-//! to the module it names.
+//! Run it alone with `cargo test --release --test layers`. It reads `src/` and `pool/src/` as
+//! text: every `crate::a::b::…` path outside comments is an edge from the file that writes it
+//! to the longest module it names. (`super::` is written only inside a file's own inner
+//! modules, its tests and loom models, so it names the file itself: no edge.)
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The layers, lowest first. A module may use its own folder and any folder of a lower rank.
 /// `scenes` and `files` share a rank: neither may use the other.
@@ -22,39 +24,57 @@ const LAYERS: &[(&str, u32)] = &[
     ("view", 6),
 ];
 
+/// The tracer's rooms in reading order (`src/tracer/mod.rs`): a room may use itself and the
+/// rooms before it, never one after it.
+const TRACER_ROOMS: &[&str] =
+    &["math", "sampling", "geometry", "shading", "accel", "camera", "scene", "tile", "render"];
+
 /// The only files that may sit directly in `src/` (besides the layer folders).
 const TOP_FILES: &[&str] = &["lib.rs", "main.rs", "error.rs"];
+
+/// The most lines a source file of either crate may have: one sitting's reading.
+const MAX_LINES: usize = 450;
 
 fn rank(layer: &str) -> u32 {
     LAYERS.iter().find(|(name, _)| *name == layer).unwrap_or_else(|| panic!("'{layer}' is not a layer")).1
 }
 
-/// Module path (`tracer::ray`) → source text, for every module of the library.
-fn modules() -> BTreeMap<String, String> {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut modules = BTreeMap::new();
-    for entry in std::fs::read_dir(&src).unwrap() {
+fn root(crate_src: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(crate_src)
+}
+
+/// Every `.rs` file under `dir`, with its module path (`tracer::sampling::sobol`; a folder's
+/// `mod.rs` is the folder's module), `lib.rs` and `main.rs` left out.
+fn files(dir: &Path, prefix: &[String], out: &mut BTreeMap<String, PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         if path.is_dir() {
-            for file in std::fs::read_dir(&path).unwrap() {
-                let file = file.unwrap().path();
-                if file.extension().is_some_and(|e| e == "rs") {
-                    let stem = file.file_stem().unwrap().to_string_lossy().into_owned();
-                    let module = if stem == "mod" { name.clone() } else { format!("{name}::{stem}") };
-                    modules.insert(module, std::fs::read_to_string(&file).unwrap());
-                }
-            }
-        } else if name.ends_with(".rs") && name != "lib.rs" && name != "main.rs" {
-            modules.insert(name.trim_end_matches(".rs").to_owned(), std::fs::read_to_string(&path).unwrap());
+            files(&path, &[prefix, &[name]].concat(), out);
+        } else if let Some(stem) = name.strip_suffix(".rs") {
+            let module = match stem {
+                "lib" | "main" if prefix.is_empty() => continue,
+                "mod" => prefix.join("::"),
+                _ => [prefix, &[stem.to_owned()]].concat().join("::"),
+            };
+            out.insert(module, path);
         }
     }
-    modules
+}
+
+/// Module path → source text, for every module of the crate whose sources are in `crate_src`.
+fn modules_of(crate_src: &str) -> BTreeMap<String, String> {
+    let mut paths = BTreeMap::new();
+    files(&root(crate_src), &[], &mut paths);
+    paths.into_iter().map(|(module, path)| (module, std::fs::read_to_string(path).unwrap())).collect()
+}
+
+fn modules() -> BTreeMap<String, String> {
+    modules_of("src")
 }
 
 /// The modules that `module`'s code (not its comments) names.
 fn uses(module: &str, text: &str, all: &BTreeMap<String, String>) -> BTreeSet<String> {
-    let folder = module.split("::").next().unwrap();
     let mut found = BTreeSet::new();
     for line in text.lines() {
         let code = line.split("//").next().unwrap();
@@ -62,28 +82,19 @@ fn uses(module: &str, text: &str, all: &BTreeMap<String, String>) -> BTreeSet<St
             !code.contains("crate::{"),
             "{module}: write one `use` per module, not `crate::{{…}}`: {line}"
         );
-        for (prefix, base) in [("crate::", None), ("super::", Some(folder))] {
-            for (at, _) in code.match_indices(prefix) {
-                let path: Vec<&str> = code[at + prefix.len()..]
-                    .split("::")
-                    .map(|part| part.split(|c: char| !(c.is_alphanumeric() || c == '_')).next().unwrap())
-                    .take(2)
-                    .collect();
-                let candidates = match base {
-                    Some(folder) => vec![format!("{folder}::{}", path[0]), folder.to_owned()],
-                    None => {
-                        let mut c = vec![path[0].to_owned()];
-                        if let Some(second) = path.get(1) {
-                            c.insert(0, format!("{}::{second}", path[0]));
-                        }
-                        c
-                    }
-                };
-                let target = candidates.into_iter().find(|c| all.contains_key(c));
-                let target = target.unwrap_or_else(|| panic!("{module}: cannot resolve '{line}'"));
-                if target != module {
-                    found.insert(target);
-                }
+        for (at, _) in code.match_indices("crate::") {
+            let path: Vec<&str> = code[at + "crate::".len()..]
+                .split("::")
+                .map(|part| part.split(|c: char| !(c.is_alphanumeric() || c == '_')).next().unwrap())
+                .collect();
+            // The longest prefix of the path that is a module.
+            let target = (1..=path.len())
+                .rev()
+                .map(|n| path[..n].join("::"))
+                .find(|candidate| all.contains_key(candidate))
+                .unwrap_or_else(|| panic!("{module}: cannot resolve '{line}'"));
+            if target != module {
+                found.insert(target);
             }
         }
     }
@@ -94,19 +105,36 @@ fn layer(module: &str) -> &str {
     module.split("::").next().unwrap()
 }
 
+/// The rank of a tracer module's room (`tracer::sampling::sobol` → 1), if it is in one.
+fn room(module: &str) -> Option<usize> {
+    let name = module.strip_prefix("tracer::")?.split("::").next()?;
+    Some(TRACER_ROOMS.iter().position(|r| *r == name).unwrap_or_else(|| panic!("'{name}' is not a tracer room")))
+}
+
 #[test]
 fn src_holds_only_the_top_files_and_the_layer_folders() {
-    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    for entry in std::fs::read_dir(&src).unwrap() {
+    for entry in std::fs::read_dir(root("src")).unwrap() {
         let path = entry.unwrap().path();
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         if path.is_dir() {
             rank(&name);
-            let opening = std::fs::read_to_string(path.join("mod.rs")).expect("each folder has a mod.rs");
-            assert!(opening.starts_with("//! **"), "src/{name}/mod.rs must open with its idea in bold");
         } else {
             assert!(TOP_FILES.contains(&name.as_str()), "src/{name}: put it in a layer folder");
         }
+    }
+}
+
+#[test]
+fn every_folder_opens_with_its_idea() {
+    let mut paths = BTreeMap::new();
+    files(&root("src"), &[], &mut paths);
+    for (module, path) in paths.iter().filter(|(_, p)| p.ends_with("mod.rs")) {
+        let opening = std::fs::read_to_string(path).unwrap();
+        assert!(opening.starts_with("//! **"), "{module}'s mod.rs must open with its idea in bold");
+    }
+    let tracer = std::fs::read_to_string(root("src/tracer/mod.rs")).unwrap();
+    for room in TRACER_ROOMS {
+        assert!(tracer.contains(&format!("pub mod {room};")), "src/tracer/mod.rs does not declare '{room}'");
     }
 }
 
@@ -123,6 +151,22 @@ fn lower_layers_never_use_upper_ones() {
         }
     }
     assert!(wrong.is_empty(), "imports against the layering:\n{}", wrong.join("\n"));
+}
+
+#[test]
+fn tracer_rooms_use_only_the_rooms_before_them() {
+    let all = modules();
+    let mut wrong = Vec::new();
+    for (module, text) in all.iter().filter(|(m, _)| room(m).is_some()) {
+        for target in uses(module, text, &all) {
+            if let (Some(from), Some(to)) = (room(module), room(&target))
+                && to > from
+            {
+                wrong.push(format!("{module} → {target}"));
+            }
+        }
+    }
+    assert!(wrong.is_empty(), "a tracer room reaches a later one:\n{}", wrong.join("\n"));
 }
 
 /// A cycle in `graph` (module → the modules it uses), as the path that closes it, if any.
@@ -151,29 +195,51 @@ fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<String> {
 
 #[test]
 fn no_module_imports_itself_through_others() {
-    let all = modules();
-    let graph = all.iter().map(|(m, text)| (m.clone(), uses(m, text, &all))).collect();
-    assert_eq!(find_cycle(&graph), None, "an import cycle");
+    for crate_src in ["src", "pool/src"] {
+        let all = modules_of(crate_src);
+        let graph = all.iter().map(|(m, text)| (m.clone(), uses(m, text, &all))).collect();
+        assert_eq!(find_cycle(&graph), None, "an import cycle in {crate_src}");
+    }
 }
 
 #[test]
-fn the_checker_sees_an_upward_import_and_a_cycle() {
+fn no_source_file_is_longer_than_one_sitting() {
+    for crate_src in ["src", "pool/src"] {
+        let mut paths = BTreeMap::new();
+        files(&root(crate_src), &[], &mut paths);
+        for path in paths.values().chain([&root(crate_src).join("lib.rs")]) {
+            let lines = std::fs::read_to_string(path).unwrap().lines().count();
+            assert!(lines <= MAX_LINES, "{} has {lines} lines, over {MAX_LINES}: split it", path.display());
+        }
+    }
+}
+
+#[test]
+fn the_checker_sees_an_upward_import_a_later_room_and_a_cycle() {
     // The checks above pass only if they can fail: feed them a made-up tree.
     let mut all = BTreeMap::new();
     all.insert(
-        "tracer::ray".to_owned(),
+        "tracer::math::ray".to_owned(),
         "use crate::schedule::frame::Frame;\n// crate::cli in a comment\n".to_owned(),
     );
-    all.insert("schedule::frame".to_owned(), "use crate::tracer::ray::Ray;\nuse super::modes;\n".to_owned());
+    all.insert("tracer::render".to_owned(), String::new());
+    all.insert(
+        "schedule::frame".to_owned(),
+        "use crate::tracer::math::ray::Ray;\nuse crate::schedule::modes;\n".to_owned(),
+    );
     all.insert("schedule::modes".to_owned(), String::new());
     all.insert("cli".to_owned(), String::new());
     assert_eq!(
-        uses("tracer::ray", &all["tracer::ray"], &all),
+        uses("tracer::math::ray", &all["tracer::math::ray"], &all),
         BTreeSet::from(["schedule::frame".to_owned()])
     );
     let frame = uses("schedule::frame", &all["schedule::frame"], &all);
-    assert_eq!(frame, BTreeSet::from(["schedule::modes".to_owned(), "tracer::ray".to_owned()]));
-    assert!(rank(layer("schedule::frame")) > rank(layer("tracer::ray")), "the upward edge is seen as upward");
+    assert_eq!(frame, BTreeSet::from(["schedule::modes".to_owned(), "tracer::math::ray".to_owned()]));
+    assert!(
+        rank(layer("schedule::frame")) > rank(layer("tracer::math::ray")),
+        "the upward edge is seen as upward"
+    );
+    assert!(room("tracer::render") > room("tracer::math::ray"), "render is a later room than math");
     let graph = all.iter().map(|(m, text)| (m.clone(), uses(m, text, &all))).collect();
-    assert_eq!(find_cycle(&graph).as_deref(), Some("schedule::frame → tracer::ray → schedule::frame"));
+    assert_eq!(find_cycle(&graph).as_deref(), Some("schedule::frame → tracer::math::ray → schedule::frame"));
 }

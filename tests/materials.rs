@@ -2,9 +2,9 @@
 
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
-use raypool::tracer::material::{Material, reflect, refract, schlick};
-use raypool::tracer::real::{Real, Vec3};
-use raypool::tracer::sphere::Hit;
+use raypool::tracer::geometry::hit::Hit;
+use raypool::tracer::math::real::{Real, Vec3};
+use raypool::tracer::shading::material::{Material, reflect, refract, schlick};
 
 fn hit(normal: Vec3, front_face: bool) -> Hit {
     Hit { t: 1.0, point: Vec3::ZERO, normal, front_face, material: 0, offset: 1e-6 }

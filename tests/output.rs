@@ -2,7 +2,7 @@
 
 use raypool::files::image::Image;
 use raypool::files::output::{Format, encode, read_pfm};
-use raypool::tracer::real::{Real, Vec3, to_f32};
+use raypool::tracer::math::real::{Real, Vec3, to_f32};
 
 fn gradient(width: u32, height: u32) -> Image {
     let pixels = (0..width * height)

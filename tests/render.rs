@@ -8,15 +8,16 @@ use std::sync::Arc;
 use deadline::within;
 use raypool::files::output::{Format, encode};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::schedule::frame::{Frame, RngSource};
+use raypool::schedule::frame::Frame;
 use raypool::schedule::modes::{Rendered, Schedule, render};
-use raypool::tracer::real::Real;
+use raypool::schedule::random::{RngChoice, RngSource};
+use raypool::tracer::math::real::Real;
 use raypool::tracer::render::{Adaptive, RenderJob, RenderSettings};
-use raypool::tracer::sampler::Sampler;
+use raypool::tracer::sampling::sampler::Sampler;
 use raypool::tracer::scene::Scene;
 
 fn frame(scene: Scene, settings: RenderSettings, threads: usize) -> Arc<Frame> {
-    let rng = RngSource::streams(&settings);
+    let rng = RngSource::new(&settings, RngChoice::PerSample);
     Arc::new(Frame::new(RenderJob::new(scene, settings), rng, threads, 16, Arc::new(|_| {})))
 }
 
@@ -131,6 +132,7 @@ fn adaptive(target_error: Real, min_spp: u32, max_spp: u32) -> RenderSettings {
         max_depth: 20,
         seed: 4,
         adaptive: Some(Adaptive { target_error, min_spp }),
+        sampler: Sampler::Independent,
         ..Default::default()
     }
 }
@@ -190,7 +192,14 @@ fn russian_roulette_keeps_the_mean_image() {
         // noise than either image: a sharp test. The mean difference over seeds must be within
         // 4 standard errors of zero. Measured: 0.001 of one; a biased roulette (without
         // the 1/p weight) darkens `final` by 1.0% and lands 68 standard errors away.
-        let settings = RenderSettings { width: 40, height: 27, spp: 16, max_depth: 50, ..Default::default() };
+        let settings = RenderSettings {
+            width: 40,
+            height: 27,
+            spp: 16,
+            max_depth: 50,
+            sampler: Sampler::Independent,
+            ..Default::default()
+        };
         let roulette = RenderSettings { roulette: true, ..settings };
         let runs = 16;
         let differences: Vec<f64> = (0..runs)
@@ -221,7 +230,14 @@ fn every_method_keeps_the_mean_image() {
         // noise. For each seed, the image mean of the method minus that of independent uniform
         // sampling at the same seed; over 24 seeds the mean difference must be within 5 standard
         // errors of zero (24 seeds: a 5-SE miss by chance has odds of about 1 in 25,000 per case).
-        let base = RenderSettings { width: 24, height: 16, spp: 16, max_depth: 50, ..Default::default() };
+        let base = RenderSettings {
+            width: 24,
+            height: 16,
+            spp: 16,
+            max_depth: 50,
+            sampler: Sampler::Independent,
+            ..Default::default()
+        };
         let adaptive = Some(Adaptive { target_error: 0.1, min_spp: 8 });
         let methods = [
             ("sobol", RenderSettings { sampler: Sampler::Sobol, ..base }),
@@ -287,7 +303,13 @@ fn adaptive_sampling_keeps_the_mean_image() {
         // seeds). Judging pixels by their own samples' spread failed this kind of check by 20
         // standard errors (results/adaptive.md): pixels whose first samples agree stop early.
         let scene = builtin_scene("paper1", DEFAULT_SCENE_SEED).unwrap().to_scene();
-        let base = RenderSettings { width: 48, height: 32, max_depth: 20, ..Default::default() };
+        let base = RenderSettings {
+            width: 48,
+            height: 32,
+            max_depth: 20,
+            sampler: Sampler::Independent,
+            ..Default::default()
+        };
         let reference = raypool::measure::convergence::Reference::render(&scene, base, 1024, 2);
         let means: Vec<f64> = (1..=12)
             .map(|seed| {

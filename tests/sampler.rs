@@ -12,12 +12,14 @@ use deadline::{output_within, within};
 use raypool::measure::convergence::{Reference, log_log_fit, timed_render};
 use raypool::scenes::builtin::builtin_scene;
 use raypool::schedule::modes::render;
-use raypool::tracer::real::Real;
+use raypool::schedule::random::{RngChoice, RngSource};
+use raypool::tracer::math::real::Real;
 use raypool::tracer::render::{RenderSettings, render_tile};
-use raypool::tracer::sampler::{
-    PerSample, PixelStreams, RandomStreams, SOBOL_SAMPLES, SampleRng, Sampler, SobolStreams, uniform,
-};
-use raypool::{Frame, RenderJob, RngSource, Schedule, Tile};
+use raypool::tracer::sampling::independent::PerSample;
+use raypool::tracer::sampling::sampler::{PixelStreams, RandomStreams, SampleRng, Sampler};
+use raypool::tracer::sampling::sobol::{SOBOL_SAMPLES, SobolStreams};
+use raypool::tracer::sampling::warp::uniform;
+use raypool::{Frame, RenderJob, Schedule, Tile};
 
 fn sobol(settings: RenderSettings) -> RenderSettings {
     RenderSettings { sampler: Sampler::Sobol, ..settings }
@@ -32,7 +34,7 @@ fn sobol_images_are_identical_under_every_mode_and_thread_count() {
         let image = |mode: Schedule, threads: usize| {
             let frame = Frame::new(
                 RenderJob::new(scene.clone(), settings),
-                RngSource::streams(&settings),
+                RngSource::new(&settings, RngChoice::PerSample),
                 threads,
                 7,
                 Arc::new(|_| {}),
@@ -49,7 +51,7 @@ fn sobol_images_are_identical_under_every_mode_and_thread_count() {
             let plain = RenderSettings { sampler: Sampler::Independent, ..settings };
             let frame = Frame::new(
                 RenderJob::new(scene.clone(), plain),
-                RngSource::streams(&plain),
+                RngSource::new(&plain, RngChoice::PerSample),
                 2,
                 7,
                 Arc::new(|_| {}),
@@ -64,7 +66,14 @@ fn sobol_images_are_identical_under_every_mode_and_thread_count() {
 fn sobol_error_keeps_falling_and_beats_independent_sampling() {
     within("the reference and the Sobol renders of three-spheres to finish", move || {
         let scene = builtin_scene("three-spheres", 0).unwrap().to_scene();
-        let base = RenderSettings { width: 48, height: 32, max_depth: 50, seed: 1, ..Default::default() };
+        let base = RenderSettings {
+            width: 48,
+            height: 32,
+            max_depth: 50,
+            seed: 1,
+            sampler: Sampler::Independent,
+            ..Default::default()
+        };
         let reference = Reference::render(&scene, base, 1024, 2); // independent numbers, two seeds
         let error =
             |settings: RenderSettings| reference.error_of(&timed_render(scene.clone(), settings, 2).0.image);

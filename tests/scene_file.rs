@@ -2,7 +2,7 @@
 
 use raypool::scenes::builtin::{BUILTINS, builtin_scene};
 use raypool::scenes::format::SceneFile;
-use raypool::tracer::material::Material;
+use raypool::tracer::shading::material::Material;
 
 const MINIMAL: &str = r#"
 [camera]

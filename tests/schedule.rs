@@ -7,11 +7,12 @@ use std::sync::Arc;
 
 use deadline::within;
 use raypool::schedule::conformance::{check, test_frame};
-use raypool::schedule::frame::{Frame, RngSource};
+use raypool::schedule::frame::Frame;
 use raypool::schedule::modes::{Schedule, Scheduler, render};
-use raypool::tracer::real::to_f64;
+use raypool::schedule::random::RngSource;
+use raypool::schedule::random::SharedRng;
+use raypool::tracer::math::real::to_f64;
 use raypool::tracer::render::{RenderJob, RenderSettings, TileOutput};
-use raypool::tracer::sampler::SharedRng;
 
 #[test]
 fn every_builtin_mode_conforms_at_several_thread_counts() {
@@ -54,7 +55,7 @@ impl Scheduler for Reseeded {
         let settings = RenderSettings { seed: frame.job().settings.seed + 1, ..frame.job().settings };
         let other = Frame::new(
             RenderJob::new(frame.job().scene.clone(), settings),
-            RngSource::PerSample(raypool::tracer::sampler::PerSample { seed: settings.seed }),
+            RngSource::PerSample(raypool::tracer::sampling::independent::PerSample { seed: settings.seed }),
             1,
             frame.tile_size,
             Arc::new(|_| {}),
@@ -138,7 +139,7 @@ fn static_blocks_differ_by_at_most_one_row() {
         let settings =
             RenderSettings { width: 8, height: 5, spp: 1, max_depth: 4, seed: 1, ..Default::default() };
         let scene = raypool::scenes::builtin::builtin_scene("paper1", 0).unwrap().to_scene();
-        let rng = RngSource::PerSample(raypool::tracer::sampler::PerSample { seed: 1 });
+        let rng = RngSource::PerSample(raypool::tracer::sampling::independent::PerSample { seed: 1 });
         let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 4, 4, Arc::new(|_| {})));
         let rendered = render(&frame, &Schedule::StaticBlocks);
         assert_eq!(rendered.threads_used(), 4);

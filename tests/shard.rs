@@ -11,7 +11,7 @@ use deadline::output_within;
 
 use raypool::files::image::Image;
 use raypool::files::part::{Part, PartSettings, merge};
-use raypool::tracer::real::{Real, Vec3};
+use raypool::tracer::math::real::{Real, Vec3};
 use raypool::{RenderSettings, Shard, Tile};
 
 fn raypool(args: &[&str], dir: &Path) -> Output {
@@ -247,8 +247,9 @@ fn a_part_round_trips_through_its_bytes() {
 
 #[test]
 fn a_shards_rows_and_tiles_cover_exactly_its_pixels() {
-    use raypool::tracer::sampler::PerSample;
-    use raypool::{Frame, RenderJob, RngSource};
+    use raypool::schedule::random::RngSource;
+    use raypool::tracer::sampling::independent::PerSample;
+    use raypool::{Frame, RenderJob};
     let settings =
         RenderSettings { width: 37, height: 23, spp: 1, max_depth: 3, ..RenderSettings::default() };
     let scene = raypool::scenes::builtin::builtin_scene("paper1", 1).unwrap().to_scene();

@@ -9,10 +9,12 @@ use deadline::within;
 use glam::DVec3;
 use raypool::measure::stress::{StressCase, cases};
 use raypool::scenes::builtin::builtin_scene;
-use raypool::tracer::real::to_dvec3;
+use raypool::tracer::geometry::sphere::Intersection;
+use raypool::tracer::math::real::to_dvec3;
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
-use raypool::tracer::sampler::{PerSample, PerSamplePixel, PixelStreams, RandomStreams};
-use raypool::tracer::sphere::Intersection;
+use raypool::tracer::sampling::independent::{PerSample, PerSamplePixel};
+use raypool::tracer::sampling::sampler::Sampler;
+use raypool::tracer::sampling::sampler::{PixelStreams, RandomStreams};
 use raypool::tracer::tile::Tile;
 
 fn case(name: &str) -> StressCase {
@@ -143,8 +145,15 @@ fn a_pixel_of_a_quarter_million_samples_is_the_mean_of_its_parts() {
     let streams = PerSample { seed: 7 };
     let tile = Tile { x: 0, y: 0, width: 1, height: 1 };
     let mean_of = |first: u64, spp: u32| {
-        let settings =
-            RenderSettings { width: 1, height: 1, spp, max_depth: 50, seed: 7, ..Default::default() };
+        let settings = RenderSettings {
+            width: 1,
+            height: 1,
+            spp,
+            max_depth: 50,
+            seed: 7,
+            sampler: Sampler::Independent,
+            ..Default::default()
+        };
         let job = RenderJob::new(scene.clone(), settings);
         to_dvec3(render_tile(&job, &From { streams, first }, tile).pixels[0])
     };

@@ -32,9 +32,10 @@ use embree::sys::{
     rtcReleaseScene, rtcSetGeometryBoundsFunction, rtcSetGeometryIntersectFunction, rtcSetGeometryUserData,
     rtcSetGeometryUserPrimitiveCount, rtcSetNewGeometryBuffer, rtcSetSceneBuildQuality,
 };
-use raypool::tracer::ray::Ray;
-use raypool::tracer::real::{Real, Vec3, to_f32};
-use raypool::tracer::sphere::{Hit, Sphere};
+use raypool::tracer::geometry::hit::Hit;
+use raypool::tracer::geometry::sphere::Sphere;
+use raypool::tracer::math::ray::Ray;
+use raypool::tracer::math::real::{Real, Vec3, to_f32};
 
 /// `RTC_INVALID_GEOMETRY_ID`: "no hit" in a hit record.
 const INVALID_ID: u32 = u32::MAX;

@@ -24,7 +24,7 @@
 //! Where none of these can be read (not Linux), every render is allowed.
 
 use crate::error::Error;
-use crate::tracer::real::Vec3;
+use crate::tracer::math::real::Vec3;
 
 /// The memory a render needs, bytes: `image_pixels` (the frame's full size), of which
 /// `rendered_pixels` are rendered (all, or a shard's), with or without adaptive sampling.

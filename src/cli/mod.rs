@@ -22,12 +22,13 @@ use crate::measure::scaling::{Study, measure_costs, measure_rounds, write_report
 use crate::measure::speedup::{Preset, write_reports};
 use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::scenes::format::SceneFile;
-use crate::schedule::frame::{DEFAULT_TILE, Frame, RngSource};
+use crate::schedule::frame::{DEFAULT_TILE, Frame};
 use crate::schedule::modes::{Schedule, render};
 use crate::schedule::progressive::Cancel;
-use crate::tracer::real::Real;
+use crate::schedule::random::{RngChoice, RngSource};
+use crate::tracer::math::real::Real;
 use crate::tracer::render::{Adaptive, MAX_SIDE, RenderJob, RenderSettings, default_height};
-use crate::tracer::sampler::{Sampler, SharedRng};
+use crate::tracer::sampling::sampler::Sampler;
 use crate::tracer::scene::{Accel, Scene};
 use crate::tracer::tile::{Shard, Tile};
 
@@ -165,7 +166,7 @@ pub struct ImageArgs {
     /// same error in 0.3-0.6x the time, results/error.md), or independent numbers
     /// [default: sobol; independent with --rng shared].
     #[arg(long, value_enum)]
-    pub sampler: Option<SamplerChoice>,
+    pub sampler: Option<Sampler>,
     /// Tile side in pixels, for the tiled modes (pool, steal).
     #[arg(long, default_value_t = DEFAULT_TILE, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
     pub tile: u32,
@@ -280,24 +281,6 @@ impl AccelChoice {
             AccelChoice::WideHugeApart => scene.with_accel(Accel::WideHugeApart),
         }
     }
-}
-
-/// The `--sampler` choices.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum SamplerChoice {
-    /// Independent numbers per pixel sample.
-    Independent,
-    /// An Owen-scrambled Sobol sequence per pixel, indexed by the sample number.
-    Sobol,
-}
-
-/// The `--rng` choices.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum RngChoice {
-    /// One stream per pixel sample, seeded from (seed, pixel, sample).
-    PerSample,
-    /// One generator behind a lock for all threads.
-    Shared,
 }
 
 /// Samples per pixel of the paper table that `raypool bench --quick` writes.
@@ -418,10 +401,7 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
     // From here on, Ctrl-C stops the render and removes the temporary file.
     let cancel = Cancel::default();
     let interrupt = Interrupt::watch(cancel.clone(), output.temp_path().to_owned())?;
-    let rng = match args.workers.rng {
-        RngChoice::PerSample => RngSource::streams(&settings),
-        RngChoice::Shared => RngSource::Shared(Arc::new(SharedRng::new(settings.seed))),
-    };
+    let rng = RngSource::new(&settings, args.workers.rng);
     let bar = progress_bar(pixels as u64);
     let progress = {
         let bar = bar.clone();
@@ -568,15 +548,16 @@ fn spp_summary(settings: &RenderSettings, samples: u64, pixels: usize) -> String
     }
 }
 
-/// The sampler the flags ask for: Sobol unless `--sampler independent`, or `--rng shared`
-/// (one independent generator, which no sampler can steer).
+/// The sampler the flags ask for: `--sampler`, else the default ([`Sampler`]'s), except under
+/// `--rng shared` (one independent generator, which no sampler can steer).
 fn sampler(args: &ImageArgs, rng: RngChoice) -> Result<Sampler, Error> {
     match (args.sampler, rng) {
-        (Some(SamplerChoice::Sobol), RngChoice::Shared) => Err(Error::new(
+        (Some(Sampler::Sobol), RngChoice::Shared) => Err(Error::new(
             "--rng shared is one independent generator for all threads: it cannot follow --sampler sobol",
         )),
-        (_, RngChoice::Shared) | (Some(SamplerChoice::Independent), _) => Ok(Sampler::Independent),
-        (Some(SamplerChoice::Sobol) | None, RngChoice::PerSample) => Ok(Sampler::Sobol),
+        (_, RngChoice::Shared) => Ok(Sampler::Independent),
+        (Some(sampler), RngChoice::PerSample) => Ok(sampler),
+        (None, RngChoice::PerSample) => Ok(Sampler::default()),
     }
 }
 

@@ -1,6 +1,6 @@
 //! The frame buffer: linear RGB pixels assembled from rendered tiles, and its 8-bit form.
 
-use crate::tracer::real::{Vec3, to_f64};
+use crate::tracer::math::real::{Vec3, to_f64};
 use crate::tracer::render::TileOutput;
 use crate::tracer::tile::Tile;
 
@@ -78,7 +78,7 @@ impl Image {
     ///
     /// ```
     /// use raypool::files::image::Image;
-    /// use raypool::tracer::real::Vec3;
+    /// use raypool::tracer::math::real::Vec3;
     /// let image = Image { width: 2, height: 1, pixels: vec![Vec3::new(0.0, 0.0, 3.0), Vec3::ONE] };
     /// assert_eq!(image.mean(), 1.0);
     /// ```

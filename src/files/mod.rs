@@ -3,7 +3,7 @@
 //! machines. Every file is written atomically (a temporary file, then a rename), so a failed
 //! run never leaves half a file behind.
 //!
-//! It may use [`crate::tracer`] (pixels are [`crate::tracer::real::Vec3`], tiles arrive as
+//! It may use [`crate::tracer`] (pixels are [`crate::tracer::math::real::Vec3`], tiles arrive as
 //! [`crate::tracer::render::TileOutput`]) and [`crate::error`], nothing above. The schedulers
 //! assemble images with it; the measurements and the command line read and write files with it.
 

@@ -16,7 +16,7 @@ use tempfile::NamedTempFile;
 
 use crate::error::{Error, io_reason};
 use crate::files::image::Image;
-use crate::tracer::real::to_f32;
+use crate::tracer::math::real::to_f32;
 
 /// An output format, chosen by the file extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -27,7 +27,7 @@ use sha2::{Digest, Sha256};
 
 use crate::error::Error;
 use crate::files::image::Image;
-use crate::tracer::real::{Real, Vec3, to_f64};
+use crate::tracer::math::real::{Real, Vec3, to_f64};
 use crate::tracer::render::{RenderSettings, TileOutput};
 use crate::tracer::tile::{Shard, Tile};
 

@@ -15,9 +15,10 @@ use std::time::Instant;
 
 use crate::files::image::Image;
 use crate::measure::compare::{metrics, relative_weight};
-use crate::schedule::frame::{Frame, RngSource};
+use crate::schedule::frame::Frame;
 use crate::schedule::modes::{Rendered, Schedule, render};
-use crate::tracer::real::to_f32;
+use crate::schedule::random::{RngChoice, RngSource};
+use crate::tracer::math::real::to_f32;
 use crate::tracer::render::{RenderJob, RenderSettings};
 use crate::tracer::scene::Scene;
 
@@ -41,7 +42,7 @@ impl Reference {
     /// The reference made of two independent halves (rendered with different seeds).
     ///
     /// ```
-    /// # use raypool::{files::image::Image, measure::convergence::Reference, tracer::real::Vec3};
+    /// # use raypool::{files::image::Image, measure::convergence::Reference, tracer::math::real::Vec3};
     /// let half = |v: f32| Image { width: 1, height: 1, pixels: vec![Vec3::splat(v.into())] };
     /// let r = Reference::from_halves(&half(0.4), &half(0.6), 64);
     /// assert!((r.noise - 0.1).abs() < 1e-6 && r.spp == 128);
@@ -92,7 +93,7 @@ impl Reference {
 /// Renders with the work-stealing scheduler on `threads` threads; returns the render and its
 /// wall time in seconds.
 pub fn timed_render(scene: Scene, settings: RenderSettings, threads: usize) -> (Rendered, f64) {
-    let rng = RngSource::streams(&settings);
+    let rng = RngSource::new(&settings, RngChoice::PerSample);
     let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, threads, 16, Arc::new(|_| {})));
     let start = Instant::now();
     let rendered = render(&frame, &Schedule::Stealing);

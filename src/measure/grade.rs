@@ -40,9 +40,11 @@ use crate::measure::machine::Machine;
 use crate::measure::speedup::median;
 use crate::scenes::format::SceneFile;
 use crate::schedule::conformance;
-use crate::schedule::frame::{Frame, RngSource};
+use crate::schedule::frame::Frame;
 use crate::schedule::modes::{Schedule, Scheduler, tiles_on};
+use crate::schedule::random::{RngChoice, RngSource};
 use crate::tracer::render::{RenderJob, RenderSettings, TileOutput, default_height};
+use crate::tracer::sampling::sampler::Sampler;
 
 /// A workload at most this many times slower than the reference earns its full point.
 pub const FULL_MARKS_RATIO: f64 = 1.2;
@@ -189,9 +191,10 @@ impl Workload {
             spp: self.spp,
             max_depth: 50,
             seed: 7,
+            sampler: Sampler::Independent,
             ..Default::default()
         };
-        let rng = RngSource::streams(&settings);
+        let rng = RngSource::new(&settings, RngChoice::PerSample);
         Ok(Arc::new(Frame::new(
             RenderJob::new(scene.to_scene(), settings),
             rng,

@@ -30,8 +30,9 @@ use crate::files::output::write_text;
 use crate::measure::machine::Machine;
 use crate::measure::plot::{ModelLine, efficiency_plot};
 use crate::measure::speedup::median;
-use crate::schedule::frame::{Frame, RngSource};
+use crate::schedule::frame::Frame;
 use crate::schedule::modes::{Rendered, Schedule, render};
+use crate::schedule::random::{RngChoice, RngSource};
 use crate::tracer::render::RenderJob;
 
 /// Seconds each unit of work took on one thread.
@@ -55,7 +56,7 @@ impl Costs {
 /// on a shared machine catches another process's bursts in a few units). Row and tile passes
 /// alternate, so a slow minute of the machine weighs on both alike.
 pub fn measure_costs(job: RenderJob, tile: u32, passes: usize) -> Costs {
-    let rng = RngSource::streams(&job.settings);
+    let rng = RngSource::new(&job.settings, RngChoice::PerSample);
     let frame = Frame::new(job, rng, 1, tile, Arc::new(|_| {}));
     let (rows, tiles) = (frame.rows(), frame.tiles());
     let mut row_times: Vec<Vec<f64>> = vec![Vec::new(); rows.len()];
@@ -214,7 +215,7 @@ pub fn measure_rounds(job: &RenderJob, tile: u32, threads: &[usize], rounds: usi
 
 /// One render of `job` with `mode` on `threads` threads: (seconds, imbalance).
 fn run_once(job: &RenderJob, tile: u32, mode: Schedule, threads: usize) -> (f64, f64) {
-    let rng = RngSource::streams(&job.settings);
+    let rng = RngSource::new(&job.settings, RngChoice::PerSample);
     let frame = Arc::new(Frame::new(job.clone(), rng, threads, tile, Arc::new(|_| {})));
     let start = Instant::now();
     let rendered: Rendered = render(&frame, &mode);

@@ -13,10 +13,11 @@ use crate::files::output::write_text;
 use crate::measure::machine::Machine;
 use crate::measure::plot::{Series, speedup_plot, timeline_plot};
 use crate::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use crate::schedule::frame::{DEFAULT_TILE, Frame, RngSource};
+use crate::schedule::frame::{DEFAULT_TILE, Frame};
 use crate::schedule::modes::{Rendered, Schedule, Scheduler, render};
+use crate::schedule::random::{RngChoice, RngSource};
 use crate::tracer::render::{RenderJob, RenderSettings, default_height};
-use crate::tracer::sampler::SharedRng;
+use crate::tracer::sampling::sampler::Sampler;
 
 /// Sizes and repetitions of one benchmark run.
 #[derive(Clone, Debug)]
@@ -139,11 +140,8 @@ fn measure_once(
     threads: usize,
     shared_rng: bool,
 ) -> (f64, Rendered) {
-    let rng = if shared_rng {
-        RngSource::Shared(Arc::new(SharedRng::new(job.settings.seed)))
-    } else {
-        RngSource::streams(&job.settings)
-    };
+    let rng =
+        RngSource::new(&job.settings, if shared_rng { RngChoice::Shared } else { RngChoice::PerSample });
     let frame = Arc::new(Frame::new(job.clone(), rng, threads, DEFAULT_TILE, Arc::new(|_| {})));
     let start = Instant::now();
     let rendered = render(&frame, scheduler);
@@ -240,6 +238,7 @@ pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> R
             spp: preset.spp,
             max_depth: depth,
             seed: 1,
+            sampler: Sampler::Independent,
             ..Default::default()
         };
         let job = RenderJob::new(scene.to_scene(), settings);
@@ -438,8 +437,15 @@ pub fn paper_table(spp: u32, threads: usize, mut log: impl FnMut(&str)) -> Resul
     let configs = PAPER.iter().map(|p| (p.0, 10, true)).chain([("final", 50, false)]);
     for (scene_name, depth, with_shared) in configs {
         let scene = builtin_scene(scene_name, DEFAULT_SCENE_SEED)?.to_scene();
-        let settings =
-            RenderSettings { width: 1200, height: 800, spp, max_depth: depth, seed: 1, ..Default::default() };
+        let settings = RenderSettings {
+            width: 1200,
+            height: 800,
+            spp,
+            max_depth: depth,
+            seed: 1,
+            sampler: Sampler::Independent,
+            ..Default::default()
+        };
         let job = RenderJob::new(scene, settings);
         for (row, &(label, theirs, ours)) in PAPER_ROWS.iter().enumerate() {
             let threads = if row == 0 { 1 } else { threads };

@@ -13,12 +13,14 @@ use std::sync::Arc;
 
 use crate::files::image::Image;
 use crate::scenes::format::{BackgroundSpec, MaterialRef, MaterialSpec, SceneFile, SphereSpec};
-use crate::schedule::frame::{Frame, RngSource};
+use crate::schedule::frame::Frame;
 use crate::schedule::modes::{Schedule, render};
+use crate::schedule::random::{RngChoice, RngSource};
 use crate::tracer::camera::CameraSettings;
-use crate::tracer::real::to_f64;
+use crate::tracer::geometry::sphere::Intersection;
+use crate::tracer::math::real::to_f64;
 use crate::tracer::render::{RenderJob, RenderSettings};
-use crate::tracer::sphere::Intersection;
+use crate::tracer::sampling::sampler::Sampler;
 
 /// Values within this of the floor or of 1 count as exact.
 pub const TOLERANCE: f64 = 1e-3;
@@ -64,7 +66,7 @@ impl StressCase {
     /// Renders the case with `intersection` and counts what is wrong.
     ///
     /// ```
-    /// use raypool::{measure::stress, tracer::sphere::Intersection};
+    /// use raypool::{measure::stress, tracer::geometry::sphere::Intersection};
     /// let unit = stress::cases().into_iter().find(|c| c.name == "furnace, unit").unwrap();
     /// let outcome = unit.run(Intersection::Robust);
     /// assert_eq!((outcome.non_finite, outcome.dark, outcome.bright), (0, 0, 0));
@@ -76,10 +78,11 @@ impl StressCase {
             spp: self.spp,
             max_depth: self.depth,
             seed: 3,
+            sampler: Sampler::Independent,
             ..RenderSettings::default()
         };
         let scene = self.scene.to_scene().with_intersection(intersection);
-        let rng = RngSource::streams(&settings);
+        let rng = RngSource::new(&settings, RngChoice::PerSample);
         let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 2, 8, Arc::new(|_| {})));
         self.judge(&render(&frame, &Schedule::Stealing).image)
     }

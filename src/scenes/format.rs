@@ -42,12 +42,12 @@ use serde::de::{self, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::error::{Error, io_reason};
-use crate::tracer::background::Background;
 use crate::tracer::camera::CameraSettings;
-use crate::tracer::material::Material;
-use crate::tracer::real::{Real, vec3};
+use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::math::real::{Real, vec3};
 use crate::tracer::scene::Scene;
-use crate::tracer::sphere::Sphere;
+use crate::tracer::shading::background::Background;
+use crate::tracer::shading::material::Material;
 
 /// A whole scene file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -32,7 +32,7 @@ use glam::DVec3;
 use crate::files::image::Image;
 use crate::schedule::frame::Frame;
 use crate::schedule::progressive::{Pass, Sums};
-use crate::tracer::real::to_f64;
+use crate::tracer::math::real::to_f64;
 use crate::tracer::render::{Adaptive, TileOutput};
 use crate::tracer::tile::Tile;
 

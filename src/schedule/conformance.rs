@@ -27,10 +27,11 @@ use std::time::{Duration, Instant};
 use parking_lot::{Condvar, Mutex};
 
 use crate::scenes::builtin::builtin_scene;
-use crate::schedule::frame::{Frame, RngSource, StartHook, TileHook};
+use crate::schedule::frame::{Frame, StartHook, TileHook};
 use crate::schedule::modes::{Schedule, Scheduler};
+use crate::schedule::random::RngSource;
 use crate::tracer::render::{RenderJob, RenderSettings, TileOutput};
-use crate::tracer::sampler::PerSample;
+use crate::tracer::sampling::independent::PerSample;
 
 /// How long the first tiles wait for the other threads to start theirs before the check
 /// decides the scheduler is not parallel. A correct scheduler needs microseconds; ten

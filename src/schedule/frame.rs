@@ -13,34 +13,13 @@ use std::time::Instant;
 
 use crate::files::image::Image;
 use crate::schedule::progressive::{Cancel, Pass};
-use crate::tracer::render::{RenderJob, RenderSettings, TileOutput, TileTiming, render_tile};
-use crate::tracer::sampler::{PerSample, RandomStreams, Sampler, SharedRng, SobolStreams};
+use crate::schedule::random::RngSource;
+use crate::tracer::render::{RenderJob, TileOutput, TileTiming, render_tile};
+use crate::tracer::sampling::sampler::RandomStreams;
 use crate::tracer::tile::{Shard, Tile};
 
 /// Default tile side for the tiled modes, pixels (measured: `results/tile-size.md`).
 pub const DEFAULT_TILE: u32 = 16;
-
-/// Where pixel samples get their random numbers.
-#[derive(Clone, Debug)]
-pub enum RngSource {
-    /// One independent stream per pixel sample: images are identical under any schedule.
-    PerSample(PerSample),
-    /// An Owen-scrambled Sobol sequence per pixel, indexed by sample: also identical under
-    /// any schedule.
-    Sobol(SobolStreams),
-    /// One generator behind a lock, shared by all threads (the seed paper's `rand()`).
-    Shared(Arc<SharedRng>),
-}
-
-impl RngSource {
-    /// The per-sample streams `settings` ask for (`settings.sampler`, seeded by `settings.seed`).
-    pub fn streams(settings: &RenderSettings) -> RngSource {
-        match settings.sampler {
-            Sampler::Independent => RngSource::PerSample(PerSample { seed: settings.seed }),
-            Sampler::Sobol => RngSource::Sobol(SobolStreams::new(settings.seed)),
-        }
-    }
-}
 
 /// Reports progress: called with the number of pixels just finished, from any thread.
 pub type Progress = Arc<dyn Fn(u64) + Send + Sync>;

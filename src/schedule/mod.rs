@@ -8,6 +8,7 @@
 //! [`crate::files::image::Image`]), [`crate::scenes`] (the conformance check renders a built-in
 //! scene), the `pool` crate and [`crate::error`]. The measurements and the command line use it.
 
+pub mod random;
 pub mod frame;
 pub mod modes;
 pub mod progressive;

@@ -20,7 +20,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use parking_lot::Mutex;
 
 use crate::tracer::render::{PixelSums, RenderJob, TileOutput, accumulate_tile};
-use crate::tracer::sampler::RandomStreams;
+use crate::tracer::sampling::sampler::RandomStreams;
 use crate::tracer::tile::Tile;
 
 /// Every tile's running sums, shared by the passes of one progressive render.

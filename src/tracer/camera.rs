@@ -7,9 +7,9 @@
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
-use crate::tracer::ray::Ray;
-use crate::tracer::real::{Real, Vec3, vec3};
-use crate::tracer::sampler::{random_in_unit_disk, uniform};
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::{Real, Vec3, vec3};
+use crate::tracer::sampling::warp::{random_in_unit_disk, uniform};
 
 /// The camera as a scene file states it (the book's parameters, in f64 as written).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -1,25 +1,31 @@
-//! **The book's tracer**, in the book's order: numbers (and angles as fractions of a turn),
-//! rays, spheres, materials, the camera, the sky, the hierarchies that find hits fast (spheres
-//! four at a time in `packet`, the binary tree in `bvh`, the four-wide tree collapsed from it
-//! in `wide`), the scene that holds them, random numbers, tiles and shards (how an image is
-//! cut up), and the one render loop that turns a tile of pixels into colours.
+//! **The book's tracer**, in rooms that each hold one family, read in this order:
+//!
+//! | room | what it holds |
+//! |---|---|
+//! | [`math`] | the scalar and vector types, angles as fractions of a turn, rays |
+//! | [`sampling`] | a pixel sample's random numbers: the sampler interface, independent and Sobol streams, warps |
+//! | [`geometry`] | the shapes rays meet (spheres) and what a hit reports |
+//! | [`shading`] | materials and the background |
+//! | [`accel`] | finding the nearest hit fast: SIMD packets, the binary tree, the four-wide tree |
+//! | [`camera`] | rays from pixels through a thin lens |
+//! | [`scene`] | the scene that holds them all, and the one hit search that dispatches to the chosen tree |
+//! | [`tile`] | how an image is cut into tiles, and tiles into shards |
+//! | [`render`] | the one render loop that turns a tile of pixels into colours |
+//!
+//! A room uses only rooms above it in this table (`tests/layers.rs` checks it), so a new
+//! shape, texture or light lands in its own room without reaching up.
 //!
 //! This is the bottom layer. It may use only itself, [`crate::error`] and outside crates; it
 //! knows nothing of files, scene formats, threads or measurement. Everything above uses it:
 //! [`crate::scenes`] builds a [`scene::Scene`], [`crate::schedule`] calls
 //! [`render::render_tile`] on many threads, [`crate::files`] stores its [`render::TileOutput`]s.
 
-pub mod real;
-pub mod turn;
-pub mod ray;
-pub mod sphere;
-pub mod material;
+pub mod math;
+pub mod sampling;
+pub mod geometry;
+pub mod shading;
+pub mod accel;
 pub mod camera;
-pub mod background;
-pub mod packet;
-pub mod bvh;
-pub mod wide;
 pub mod scene;
-pub mod sampler;
 pub mod tile;
 pub mod render;

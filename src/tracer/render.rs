@@ -12,11 +12,12 @@ use glam::DVec3;
 
 use crate::error::Error;
 use crate::tracer::camera::Camera;
-use crate::tracer::ray::Ray;
-use crate::tracer::real::{Real, Vec3, from_dvec3, to_dvec3};
-use crate::tracer::sampler::{PixelStreams, RandomStreams, SampleRng, Sampler, uniform};
+use crate::tracer::geometry::hit::Hit;
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3};
+use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, SampleRng, Sampler};
+use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
-use crate::tracer::sphere::Hit;
 use crate::tracer::tile::Tile;
 
 /// Largest accepted image side, pixels (the command line and every other entry point check it).
@@ -67,7 +68,7 @@ pub struct RenderSettings {
 }
 
 impl Default for RenderSettings {
-    /// The command line's defaults: 400 × 267, 32 spp, depth 50, seed 1.
+    /// The command line's defaults: 400 × 267, 32 spp, depth 50, seed 1, the default sampler.
     fn default() -> RenderSettings {
         RenderSettings {
             width: 400,
@@ -78,7 +79,7 @@ impl Default for RenderSettings {
             stop_black_paths: true,
             roulette: false,
             adaptive: None,
-            sampler: Sampler::Independent,
+            sampler: Sampler::default(),
         }
     }
 }

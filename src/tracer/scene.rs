@@ -4,14 +4,15 @@
 //! this is what the tracer reads. Everything is plain data (`Sync` for free), shared by
 //! reference between render threads.
 
-use crate::tracer::background::Background;
-use crate::tracer::bvh::{Bvh, half_area_around};
+use crate::tracer::accel::bvh::{Bvh, half_area_around};
+use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::camera::CameraSettings;
-use crate::tracer::material::Material;
-use crate::tracer::ray::Ray;
-use crate::tracer::real::Real;
-use crate::tracer::sphere::{Closest, Hit, Intersection, Sphere};
-use crate::tracer::wide::WideBvh;
+use crate::tracer::geometry::hit::{Closest, Hit};
+use crate::tracer::geometry::sphere::{Intersection, Sphere};
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::Real;
+use crate::tracer::shading::background::Background;
+use crate::tracer::shading::material::Material;
 
 /// Scenes with fewer spheres than this test every sphere: a hierarchy costs more than it
 /// saves there (`results/perf.md`).

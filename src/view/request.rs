@@ -10,7 +10,7 @@
 
 use clap::Parser;
 
-use crate::cli::{RngChoice, ViewArgs, default_threads, load_scene, one_line, render_settings};
+use crate::cli::{ViewArgs, default_threads, load_scene, one_line, render_settings};
 use crate::error::Error;
 use crate::scenes::format::SceneFile;
 use crate::tracer::render::RenderJob;
@@ -120,7 +120,7 @@ pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>)
         threads,
         mode: args.workers.mode,
         tile: image.tile,
-        shared_rng: args.workers.rng == RngChoice::Shared,
+        rng: args.workers.rng,
     })
 }
 

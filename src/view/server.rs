@@ -30,6 +30,7 @@ use serde_json::json;
 
 use crate::files::output::{Format, encode};
 use crate::scenes::builtin::BUILTINS;
+use crate::schedule::random::RngChoice;
 use crate::view::http::{Request, Response, WRITE_TIME, read_request};
 use crate::view::request::{MAX_PASTED_SCENE, parse};
 use crate::view::session::Session;
@@ -128,7 +129,7 @@ fn state(session: &Session) -> String {
     json!({
         "gen": generation, "scene": config.name, "scenes": BUILTINS.iter().map(|b| b.name).collect::<Vec<_>>(),
         "mode": config.mode.name(), "threads": config.threads, "tile": config.tile,
-        "rng": if config.shared_rng { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
+        "rng": if config.rng == RngChoice::Shared { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
         "width": settings.width, "height": settings.height, "spp": settings.spp,
     })
     .to_string()

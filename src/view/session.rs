@@ -24,11 +24,11 @@ use serde_json::json;
 
 use crate::files::image::Image;
 use crate::scenes::format::SceneFile;
-use crate::schedule::frame::{Frame, RngSource};
+use crate::schedule::frame::Frame;
 use crate::schedule::modes::{Schedule, render};
 use crate::schedule::progressive::{Cancel, Pass, Sums};
+use crate::schedule::random::{RngChoice, RngSource};
 use crate::tracer::render::{RenderJob, TileOutput};
-use crate::tracer::sampler::SharedRng;
 
 /// Events a page may fall behind by before it is dropped.
 const QUEUE: usize = 8192;
@@ -56,8 +56,8 @@ pub struct Config {
     pub mode: Schedule,
     /// Tile side, pixels.
     pub tile: u32,
-    /// One generator behind a lock for all threads, instead of per-sample streams.
-    pub shared_rng: bool,
+    /// Per-sample streams, or one generator behind a lock for all threads.
+    pub rng: RngChoice,
 }
 
 /// The latest finished pass.
@@ -225,11 +225,7 @@ impl Session {
         self.broadcast(Kind::Start, start_event(generation, config));
         let settings = config.job.settings;
         let sums = Sums::default();
-        let rng = if config.shared_rng {
-            RngSource::Shared(Arc::new(SharedRng::new(settings.seed)))
-        } else {
-            RngSource::streams(&settings)
-        };
+        let rng = RngSource::new(&settings, config.rng);
         let started = Instant::now();
         let (mut done, mut pass) = (0, 0);
         while done < settings.spp && !cancel.is_cancelled() {
@@ -289,7 +285,7 @@ fn start_event(generation: u64, config: &Config) -> String {
         "type": "start", "gen": generation, "scene": config.name, "width": settings.width,
         "height": settings.height, "spp": settings.spp, "threads": config.threads,
         "mode": config.mode.name(), "tile": config.tile,
-        "rng": if config.shared_rng { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
+        "rng": if config.rng == RngChoice::Shared { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
         "lookfrom": config.scene.camera.lookfrom, "lookat": config.scene.camera.lookat,
     })
     .to_string()

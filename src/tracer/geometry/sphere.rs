@@ -1,4 +1,4 @@
-//! Spheres, the only shape: a numerically stable ray test and a self-intersection-free hit.
+//! Spheres, the only shape so far: a numerically stable ray test and a self-intersection-free hit.
 //!
 //! Two things make f32 spheres robust where the textbook code shows acne or misses:
 //!
@@ -12,8 +12,9 @@
 //!    ([`Sphere::spawn_offset`]). This replaces the book's fixed `t_min = 0.001`, which is too
 //!    large for tiny scenes and too small for a ground sphere of radius 10⁴ in f32.
 
-use crate::tracer::ray::Ray;
-use crate::tracer::real::{Real, Vec3};
+use crate::tracer::geometry::hit::Hit;
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::{Real, Vec3};
 
 /// How rays meet spheres. Only [`Intersection::Robust`] is used for images; the book's
 /// method is kept so that `results/stability.md` and the ablation table can show what the
@@ -43,66 +44,6 @@ pub struct Sphere {
     pub radius: Real,
     /// Index into the scene's material table.
     pub material: u32,
-}
-
-/// What a ray hit: where, which way the surface faces, and how to leave it safely.
-#[derive(Clone, Copy, Debug)]
-pub struct Hit {
-    /// Distance along the ray.
-    pub t: Real,
-    /// The hit point.
-    pub point: Vec3,
-    /// Unit surface normal, turned to face against the incoming ray.
-    pub normal: Vec3,
-    /// True when the ray arrived from the side the geometric normal points to (outside,
-    /// for a positive radius).
-    pub front_face: bool,
-    /// Index into the scene's material table.
-    pub material: u32,
-    /// How far off the surface a new ray must start to never re-hit it by rounding error.
-    pub offset: Real,
-}
-
-/// The closest hit found so far: distance and sphere index. Ties in distance go to the
-/// lower index, so the answer does not depend on the order in which spheres are tested.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Closest {
-    /// Distance of the best hit (the search bound while none is found).
-    pub t: Real,
-    /// Index of the sphere hit, `u32::MAX` while none is.
-    pub index: u32,
-    /// The bound for sphere tests: `t` while nothing is found, else the next number above
-    /// `t`, so that a tie is reported and [`Closest::offer`] can decide it. Kept, not
-    /// computed per test: it changes only when a hit is kept, which is rare.
-    bound: Real,
-}
-
-impl Closest {
-    /// Nothing found yet, searching up to `t_max` (exclusive).
-    pub fn none(t_max: Real) -> Closest {
-        Closest { t: t_max, index: u32::MAX, bound: t_max }
-    }
-
-    /// The bound a sphere test must use so that a hit at exactly `t` (a tie) is reported.
-    #[inline]
-    pub fn bound(&self) -> Real {
-        self.bound
-    }
-
-    /// Keeps the hit `(t, index)` if it is closer, or as close with a lower index.
-    #[inline]
-    pub fn offer(&mut self, t: Real, index: u32) {
-        if t < self.t || (t == self.t && index < self.index) {
-            // A hit distance is positive and finite, so the next number above it is one bit
-            // pattern up (cheaper than the general `next_up`, which this is on the hot path).
-            *self = Closest { t, index, bound: Real::from_bits(t.to_bits() + 1) };
-        }
-    }
-
-    /// `(index, t)` of the hit, if any.
-    pub fn found(&self) -> Option<(usize, Real)> {
-        (self.index != u32::MAX).then_some((self.index as usize, self.t))
-    }
 }
 
 impl Sphere {
@@ -202,19 +143,5 @@ impl Sphere {
     pub fn spawn_offset(&self) -> Real {
         const ULPS: Real = 8.0;
         ULPS * Real::EPSILON * (self.center.abs().max_element() + self.radius.abs())
-    }
-}
-
-impl Hit {
-    /// A new ray leaving this hit in the unit direction `dir` (a scattered direction is
-    /// one: `material.rs`), started off the surface on the side `dir` points to (outwards
-    /// for reflection, inwards for refraction).
-    #[inline]
-    pub fn spawn(&self, dir: Vec3) -> Ray {
-        debug_assert!((dir.length_squared() - 1.0).abs() < 1e-4, "a unit direction");
-        let side = if dir.dot(self.normal) >= 0.0 { 1.0 } else { -1.0 };
-        // Not normalised again: a square root and a division on every bounce's critical
-        // path, for a vector already unit to within rounding.
-        Ray { origin: self.point + (side * self.offset) * self.normal, dir }
     }
 }

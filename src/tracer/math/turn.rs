@@ -21,12 +21,12 @@
 //! build keeps libm's `sin_cos`: it is the comparison build, and f64's polynomials would be
 //! twice as long.
 
-use crate::tracer::real::Real;
+use crate::tracer::math::real::Real;
 
 /// `sin(2πu)` and `cos(2πu)` for `u` in `[0, 1]`.
 ///
 /// ```
-/// use raypool::tracer::turn::sin_cos_turn;
+/// use raypool::tracer::math::turn::sin_cos_turn;
 /// assert_eq!(sin_cos_turn(0.5), (0.0, -1.0));
 /// let (sin, cos) = sin_cos_turn(0.125);
 /// let diagonal = std::f32::consts::FRAC_1_SQRT_2; // an eighth of a turn
@@ -60,14 +60,14 @@ pub fn sin_cos_turn(u: Real) -> (Real, Real) {
 /// `sin(2πu)` and `cos(2πu)` (libm's, in the `f64` build).
 ///
 /// ```
-/// use raypool::tracer::turn::sin_cos_turn;
+/// use raypool::tracer::math::turn::sin_cos_turn;
 /// let (sin, cos) = sin_cos_turn(0.25);
 /// assert!((sin - 1.0).abs() < 1e-15 && cos.abs() < 1e-15);
 /// ```
 #[cfg(feature = "f64")]
 #[inline]
 pub fn sin_cos_turn(u: Real) -> (Real, Real) {
-    (crate::tracer::real::consts::TAU * u).sin_cos()
+    (crate::tracer::math::real::consts::TAU * u).sin_cos()
 }
 
 #[cfg(all(test, not(feature = "f64")))]

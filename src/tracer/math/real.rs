@@ -40,7 +40,7 @@ pub fn to_f32(x: Real) -> f32 {
 /// largest f32 not above `x`, for a bound that may err low but never high.
 ///
 /// ```
-/// use raypool::tracer::real::{Real, to_f32_at_most};
+/// use raypool::tracer::math::real::{Real, to_f32_at_most};
 /// let third: Real = 1.0 / 3.0; // in f64, the nearest f32 lies above it
 /// assert!(Real::from(to_f32_at_most(third)) <= third);
 /// assert_eq!(to_f32_at_most(0.5), 0.5);

@@ -14,9 +14,10 @@
 //! Invariant: unused lanes hold NaN centres and radii and index [`Packet::EMPTY`]; every
 //! comparison with NaN is false, so they never report a hit.
 
-use crate::tracer::ray::Ray;
-use crate::tracer::real::Real;
-use crate::tracer::sphere::{Closest, Sphere};
+use crate::tracer::geometry::hit::Closest;
+use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::Real;
 
 /// Spheres per packet: one SSE register of f32.
 pub const LANES: usize = 4;
@@ -41,7 +42,7 @@ impl Packet {
     /// scene's array.
     ///
     /// ```
-    /// use raypool::tracer::packet::Packet;
+    /// use raypool::tracer::accel::packet::Packet;
     /// use raypool::tracer::{ray::Ray, real::{Real, Vec3}, sphere::{Closest, Sphere}};
     /// let ball = |x: Real| Sphere { center: Vec3::new(x, 0.0, -5.0), radius: 1.0, material: 0 };
     /// let packet = Packet::new(&[ball(0.0), ball(0.5)], 7);

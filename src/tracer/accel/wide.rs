@@ -27,11 +27,12 @@ use std::ops::Range;
 
 use arrayvec::ArrayVec;
 
-use crate::tracer::bvh::Bvh;
-use crate::tracer::packet::{LANES, Packet};
-use crate::tracer::ray::Ray;
-use crate::tracer::real::{Real, to_f32_at_most};
-use crate::tracer::sphere::{Closest, Sphere};
+use crate::tracer::accel::bvh::Bvh;
+use crate::tracer::accel::packet::{LANES, Packet};
+use crate::tracer::geometry::hit::Closest;
+use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::{Real, to_f32_at_most};
 
 /// Children per node.
 pub const WIDTH: usize = 4;

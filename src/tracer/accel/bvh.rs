@@ -19,9 +19,10 @@
 //! (`tests/bvh.rs` compares whole images). The renderer traverses the four-wide tree that
 //! `wide.rs` collapses from this one; the binary traversal stays for comparison.
 
-use crate::tracer::ray::Ray;
-use crate::tracer::real::{Real, Vec3};
-use crate::tracer::sphere::{Closest, Sphere};
+use crate::tracer::geometry::hit::Closest;
+use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::{Real, Vec3};
 
 /// Leaves hold at most this many spheres when splitting stops paying off.
 const MAX_LEAF: usize = 4;

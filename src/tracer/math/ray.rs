@@ -3,7 +3,7 @@
 //! Keeping directions normalised makes `t` a distance, lets the sphere test drop the `a`
 //! coefficient of the quadratic, and keeps the stable form of that test exact (see `sphere.rs`).
 
-use crate::tracer::real::{Real, Vec3};
+use crate::tracer::math::real::{Real, Vec3};
 
 /// A half-line from `origin` along the unit vector `dir`.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,6 +1,6 @@
 //! What a ray that escapes the scene sees.
 
-use crate::tracer::real::{Real, Vec3};
+use crate::tracer::math::real::{Real, Vec3};
 
 /// The light arriving from infinitely far away.
 #[derive(Clone, Copy, Debug, PartialEq)]

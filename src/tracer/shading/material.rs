@@ -6,9 +6,9 @@
 
 use rand::Rng;
 
-use crate::tracer::real::{Real, Vec3};
-use crate::tracer::sampler::{random_unit_vector, uniform};
-use crate::tracer::sphere::Hit;
+use crate::tracer::geometry::hit::Hit;
+use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::sampling::warp::{random_unit_vector, uniform};
 
 /// A surface's material, as in *Ray Tracing in One Weekend*.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,0 +1,11 @@
+//! **Acceleration**: finding a ray's nearest hit without testing every shape. Spheres four at
+//! a time in SIMD lanes ([`packet`]), the binary SAH tree ([`bvh`]), and the four-wide tree
+//! collapsed from it ([`wide`]). Each answers with the same [`Closest`] hit, whichever
+//! [`Accel`] the scene chose, so `--accel` changes the time, never the image.
+//!
+//! [`Closest`]: crate::tracer::geometry::hit::Closest
+//! [`Accel`]: crate::tracer::scene::Accel
+
+pub mod packet;
+pub mod bvh;
+pub mod wide;

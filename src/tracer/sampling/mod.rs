@@ -1,0 +1,15 @@
+//! **Random numbers**: one stream per pixel sample, made from `(render seed, pixel, sample)`,
+//! so an image is bit-identical under every schedule, thread count and shard.
+//!
+//! Read [`sampler`] first (the interface the render loop draws through, and the `--sampler`
+//! choice with its one default), then the two samplers: [`independent`] numbers and Owen-
+//! scrambled [`sobol`] points (made fast in `sobol_table`), and last the [`warp`]s that turn
+//! uniform numbers into directions and lens points. A new sampler is a new file and one arm of
+//! [`sampler::Sampler`]. The generator the seed paper shared between threads behind a lock is
+//! not here: it needs threads, and lives in [`crate::schedule::random`].
+
+pub mod sampler;
+pub mod independent;
+pub mod sobol;
+mod sobol_table;
+pub mod warp;

@@ -1,0 +1,95 @@
+//! The sampler interface: where a pixel sample's random numbers come from.
+//!
+//! An image must be bit-identical whatever the scheduler and thread count. So no random
+//! generator is shared, global or thread-local: sample `s` of pixel `p` draws from its own
+//! stream, made from `(render seed, p, s)`. Which thread renders the sample, and in what order,
+//! cannot change a single number it draws. [`RandomStreams`] hands out those streams, a pixel
+//! at a time; [`Sampler`] (`--sampler`) names the two real ones, each in a file of its own.
+
+use rand::Rng;
+use rand::rngs::SmallRng;
+use rand_xoshiro::SplitMix64;
+
+/// Which numbers pixel samples draw (`--sampler`). Its default is the renderer's, stated
+/// here once: the command line, the viewer, [`RenderSettings::default`] and the benchmarks
+/// all take it from this `#[default]`.
+///
+/// [`RenderSettings::default`]: crate::tracer::render::RenderSettings
+///
+/// ```
+/// use raypool::tracer::sampling::sampler::Sampler;
+/// assert_eq!(Sampler::default(), Sampler::Sobol);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum Sampler {
+    /// Independent numbers per pixel sample
+    /// ([`PerSample`](crate::tracer::sampling::independent::PerSample)).
+    Independent,
+    /// An Owen-scrambled Sobol sequence per pixel, indexed by the sample number
+    /// ([`SobolStreams`](crate::tracer::sampling::sobol::SobolStreams)): stratified, the
+    /// same error in 0.3-0.6x the time (results/error.md).
+    #[default]
+    Sobol,
+}
+
+impl Sampler {
+    /// The `--sampler` name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sampler::Independent => "independent",
+            Sampler::Sobol => "sobol",
+        }
+    }
+}
+
+/// A pixel sample's generator, told when a new bounce begins, so that a low-discrepancy
+/// sampler can give each use of random numbers its own dimensions. Independent generators
+/// ignore it.
+pub trait SampleRng: Rng {
+    /// The next numbers are for bounce `bounce` (0 for the camera ray's first scatter). Until
+    /// the first call, they are the camera's: pixel jitter (2), then lens (2).
+    fn bounce(&mut self, bounce: u32) {
+        let _ = bounce;
+    }
+}
+
+impl SampleRng for SmallRng {}
+impl SampleRng for SplitMix64 {}
+
+/// Where the random numbers of each pixel sample come from.
+///
+/// [`PerSample`](crate::tracer::sampling::independent::PerSample) and
+/// [`SobolStreams`](crate::tracer::sampling::sobol::SobolStreams) are the renderer's real sources. The trait also lets an
+/// ablation (the paper's single shared `rand()`) be plugged into the same render loop.
+///
+/// It has two levels because a pixel's samples share work: the render loop asks once per pixel
+/// for its [`PixelStreams`] (for Sobol, the scramble keys of the pixel's dimension sets), then
+/// for one stream per sample. What a stream draws still depends only on `(seed, pixel, sample)`.
+///
+/// ```
+/// use raypool::tracer::sampling::independent::PerSample;
+/// use raypool::tracer::sampling::sampler::{PixelStreams, RandomStreams};
+/// use raypool::tracer::sampling::warp::uniform;
+/// let streams = PerSample { seed: 1 };
+/// let pixel = streams.pixel(42);
+/// // The same sample of the same pixel draws the same numbers, however it is reached.
+/// assert_eq!(uniform(&mut pixel.stream(3)), uniform(&mut streams.pixel(42).stream(3)));
+/// ```
+pub trait RandomStreams: Sync {
+    /// What the samples of one pixel share.
+    type Pixel<'a>: PixelStreams
+    where
+        Self: 'a;
+    /// The streams of pixel `pixel` (row-major index).
+    fn pixel(&self, pixel: u64) -> Self::Pixel<'_>;
+}
+
+/// The random streams of one pixel's samples (see [`RandomStreams`]).
+pub trait PixelStreams {
+    /// The generator type handed to one pixel sample.
+    type Stream<'a>: SampleRng
+    where
+        Self: 'a;
+    /// The stream of sample `sample` of this pixel.
+    fn stream(&self, sample: u64) -> Self::Stream<'_>;
+}
