@@ -108,7 +108,12 @@ fn layer(module: &str) -> &str {
 /// The rank of a tracer module's room (`tracer::sampling::sobol` → 1), if it is in one.
 fn room(module: &str) -> Option<usize> {
     let name = module.strip_prefix("tracer::")?.split("::").next()?;
-    Some(TRACER_ROOMS.iter().position(|r| *r == name).unwrap_or_else(|| panic!("'{name}' is not a tracer room")))
+    Some(
+        TRACER_ROOMS
+            .iter()
+            .position(|r| *r == name)
+            .unwrap_or_else(|| panic!("'{name}' is not a tracer room")),
+    )
 }
 
 #[test]

@@ -1,8 +1,10 @@
-//! **Scheduling: who renders which tile.** A [`frame::Frame`] is a render in progress and the
-//! only way to render a tile; [`modes`] holds the [`modes::Scheduler`] trait and the six
-//! built-in ways to share a frame's tiles among threads (static blocks, interleaved rows, the
-//! two pools, stealing); [`progressive`] refines an image pass after pass, cancellably, on
-//! any of them, and [`adaptive`] spends those passes where the image is still noisy; [`conformance`] is the check a student's scheduler must pass.
+//! **Scheduling: who renders which tile.** [`random`] picks where a render's random numbers
+//! come from (per-sample streams, or the seed paper's generator shared behind a lock); a
+//! [`frame::Frame`] is a render in progress and the only way to render a tile; [`modes`] holds
+//! the [`modes::Scheduler`] trait and the six built-in ways to share a frame's tiles among
+//! threads (static blocks, interleaved rows, the two pools, stealing); [`progressive`] refines
+//! an image pass after pass, cancellably, on any of them, and [`adaptive`] spends those passes
+//! where the image is still noisy; [`conformance`] is the check a student's scheduler must pass.
 //!
 //! It may use [`crate::tracer`], [`crate::files`] (a frame is assembled into an
 //! [`crate::files::image::Image`]), [`crate::scenes`] (the conformance check renders a built-in

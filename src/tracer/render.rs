@@ -3,7 +3,7 @@
 //! Every scheduler (serial, static split, pools…) only decides which thread calls
 //! `render_tile` on which tile; none of them has a render loop of its own. Because a pixel's
 //! value depends only on the scene, the settings and its own random streams (see
-//! `sampler.rs`), the image is bit-identical whatever the schedule.
+//! `sampling/`), the image is bit-identical whatever the schedule.
 
 use std::thread::ThreadId;
 use std::time::Duration;

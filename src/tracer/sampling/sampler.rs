@@ -10,11 +10,12 @@ use rand::Rng;
 use rand::rngs::SmallRng;
 use rand_xoshiro::SplitMix64;
 
-/// Which numbers pixel samples draw (`--sampler`). Its default is the renderer's, stated
-/// here once: the command line, the viewer, [`RenderSettings::default`] and the benchmarks
-/// all take it from this `#[default]`.
-///
-/// [`RenderSettings::default`]: crate::tracer::render::RenderSettings
+/// Which numbers pixel samples draw (`--sampler`): independent numbers
+/// ([`PerSample`](crate::tracer::sampling::independent::PerSample)) or Owen-scrambled Sobol
+/// points ([`SobolStreams`](crate::tracer::sampling::sobol::SobolStreams)). Its default is the
+/// renderer's, stated here once: the command line, the viewer,
+/// [`RenderSettings::default`](crate::tracer::render::RenderSettings) and the benchmarks all
+/// take it from this `#[default]`. (The variants' own lines are `--help`'s text.)
 ///
 /// ```
 /// use raypool::tracer::sampling::sampler::Sampler;
@@ -22,12 +23,9 @@ use rand_xoshiro::SplitMix64;
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
 pub enum Sampler {
-    /// Independent numbers per pixel sample
-    /// ([`PerSample`](crate::tracer::sampling::independent::PerSample)).
+    /// Independent numbers per pixel sample.
     Independent,
-    /// An Owen-scrambled Sobol sequence per pixel, indexed by the sample number
-    /// ([`SobolStreams`](crate::tracer::sampling::sobol::SobolStreams)): stratified, the
-    /// same error in 0.3-0.6x the time (results/error.md).
+    /// An Owen-scrambled Sobol sequence per pixel, indexed by the sample number.
     #[default]
     Sobol,
 }

@@ -1,0 +1,85 @@
+//! Golden images: every built-in scene, under both samplers (and `final` with roulette and
+//! adaptive sampling), renders to exactly the bytes it rendered to before issue #34 moved the
+//! tracer into rooms. The hashes in `tests/golden/images.sha256` were written by the `raypool`
+//! binary of commit 5e09953; a change that was meant to move no pixel (a refactor, a new kind
+//! of object that sphere scenes do not use) must leave every one of them as it is.
+//!
+//! The bits are those of the default f32 build on x86-64 (the f64 build's differ by design);
+//! after a deliberate change of image bits, `RAYPOOL_BLESS=1 cargo test --release --test
+//! golden` rewrites the file, and the commit says why.
+
+#![cfg(not(feature = "f64"))]
+
+mod deadline;
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use deadline::within;
+use raypool::files::output::{Format, encode};
+use raypool::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::schedule::frame::{DEFAULT_TILE, Frame};
+use raypool::schedule::modes::{Schedule, render};
+use raypool::schedule::random::{RngChoice, RngSource};
+use raypool::tracer::render::{Adaptive, RenderJob, RenderSettings};
+use raypool::tracer::sampling::sampler::Sampler;
+use sha2::{Digest, Sha256};
+
+const HASHES: &str = "tests/golden/images.sha256";
+
+/// `raypool render --width 48 --height 32 --spp 4 --threads 2` and the given sampler.
+fn base(sampler: Sampler) -> RenderSettings {
+    RenderSettings { width: 48, height: 32, spp: 4, max_depth: 50, seed: 1, sampler, ..Default::default() }
+}
+
+/// Each case's name (as in the hash file) and settings.
+fn cases() -> Vec<(String, &'static str, RenderSettings)> {
+    let mut cases = Vec::new();
+    for builtin in BUILTINS {
+        for sampler in [Sampler::Sobol, Sampler::Independent] {
+            cases.push((format!("{}-{}", builtin.name, sampler.name()), builtin.name, base(sampler)));
+        }
+    }
+    let sobol = base(Sampler::Sobol);
+    cases.push(("final-sobol-roulette".into(), "final", RenderSettings { roulette: true, ..sobol }));
+    let adaptive = Some(Adaptive { target_error: 0.1, min_spp: 4 });
+    cases.push(("final-sobol-adaptive".into(), "final", RenderSettings { spp: 32, adaptive, ..sobol }));
+    cases
+}
+
+fn sha256_of_render(scene: &str, settings: RenderSettings) -> String {
+    let scene = builtin_scene(scene, DEFAULT_SCENE_SEED).unwrap().to_scene();
+    let rng = RngSource::new(&settings, RngChoice::PerSample);
+    let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 2, DEFAULT_TILE, Arc::new(|_| {})));
+    let mut pfm = Vec::new();
+    encode(&render(&frame, &Schedule::Stealing).image, Format::Pfm, &mut pfm).unwrap();
+    Sha256::digest(&pfm).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+#[test]
+fn every_builtin_scene_renders_the_bytes_it_rendered_before() {
+    within("the golden renders to finish", || {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(HASHES);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let header: String = text.lines().filter(|l| l.starts_with('#')).map(|l| format!("{l}\n")).collect();
+        let expected: BTreeMap<&str, &str> =
+            text.lines().filter(|l| !l.starts_with('#')).filter_map(|l| l.split_once(' ')).collect();
+        let got: BTreeMap<String, String> = cases()
+            .into_iter()
+            .map(|(name, scene, settings)| (name, sha256_of_render(scene, settings)))
+            .collect();
+        if std::env::var_os("RAYPOOL_BLESS").is_some() {
+            let lines: String = got.iter().map(|(name, hash)| format!("{name} {hash}\n")).collect();
+            std::fs::write(&path, header + &lines).unwrap();
+            return;
+        }
+        let changed: Vec<&str> = got
+            .iter()
+            .filter(|(name, hash)| expected.get(name.as_str()) != Some(&hash.as_str()))
+            .map(|(name, _)| name.as_str())
+            .collect();
+        assert!(changed.is_empty(), "these images changed bits (or are new to {HASHES}): {changed:?}");
+        assert_eq!(got.len(), expected.len(), "{HASHES} names images no case renders");
+    })
+}
