@@ -19,17 +19,25 @@
 //!
 //! # Reading order
 //!
-//! 1. `queue.rs`: what a job is; the `JobQueue` interface; [`Discipline`].
+//! The modules are declared below in this order. No file imports one that imports it back,
+//! directly or through others: the `use` arrows between files form no circle (`queue.rs`
+//! uses only the latch a job carries and `sync.rs`; `pool.rs` is the only file that uses
+//! `batch.rs`, `discipline.rs` and `worker.rs` together).
+//!
+//! 1. `queue.rs`: what a job is; the [`JobQueue`] interface. It knows no discipline.
 //! 2. `locked.rs`: the textbook queue, a mutex and a condition variable.
 //! 3. `shared.rs`: the same with a channel; shutdown by disconnection.
-//! 4. `sleep.rs` then `steal.rs`: per-worker deques, stealing, sleeping without lost wake-ups.
-//! 5. `worker.rs`: the worker loop, panics, the thread-local "which worker am I".
-//! 6. `latch.rs` then `batch.rs`: waiting for many jobs; why waiting workers must help.
-//! 7. `stats.rs`: counting and timing what workers do.
-//! 8. `pool.rs`: building, submitting, dropping.
-//! 9. `sync.rs`: where the locks, atomics and threads come from, and how the loom model
-//!    checker swaps them; the models sit at the end of each protocol's file.
-//! 10. `conformance.rs`: the contract checked on any queue, including one written outside
+//! 4. `sleep.rs` then `steal.rs`: per-worker deques, `pop` and `steal`, sleeping without lost
+//!    wake-ups.
+//! 5. `discipline.rs`: [`Discipline`], the three queues above by name.
+//! 6. `worker.rs`: the worker loop, panics, the thread-local "which worker am I".
+//! 7. `latch.rs` then `batch.rs`: waiting for many jobs; why waiting workers must help.
+//! 8. `stats.rs`: counting and timing what workers do; [`imbalance`].
+//! 9. `pool.rs`: [`ThreadPool`], every method of it: building, submitting, dropping.
+//! 10. `sync.rs`: where the locks, atomics and threads come from, and how the loom model
+//!     checker swaps them; the models sit at the end of each protocol's file.
+//! 11. [`deadline`]: waiting without hanging, the helper every test of the workspace uses.
+//! 12. [`conformance`]: the contract checked on any queue, including one written outside
 //!     this crate on the public [`JobQueue`] trait and given to [`Builder::queue`].
 //!
 //! # Checked, not hoped
@@ -91,19 +99,22 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
-mod batch;
-pub mod conformance;
-mod latch;
-mod locked;
-mod pool;
 mod queue;
+mod locked;
 mod shared;
 mod sleep;
-mod stats;
 mod steal;
-mod sync;
+mod discipline;
 mod worker;
+mod latch;
+mod batch;
+mod stats;
+mod pool;
+mod sync;
+pub mod deadline;
+pub mod conformance;
 
+pub use discipline::Discipline;
 pub use pool::{BuildError, Builder, ThreadPool};
-pub use queue::{Discipline, Job, JobQueue, MakeQueue, Popped};
-pub use stats::{JobSpan, PoolStats, WorkerStats};
+pub use queue::{Job, JobQueue, MakeQueue, Popped};
+pub use stats::{JobSpan, PoolStats, WorkerStats, imbalance};
