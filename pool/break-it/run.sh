@@ -18,7 +18,7 @@
 #
 # A patch opens with a few lines of text (ignored by `patch` and `git apply`), one of them
 #   caught-by: loom|stress lib|TESTFILE TEST_NAME
-# e.g. `caught-by: stress contract random_job_lengths_keep_order_and_count`: the stress build
+# e.g. `caught-by: stress contract a_waiting_worker_returns_as_soon_as_its_batch_is_done`: the stress build
 # (real threads) of `pool/tests/contract.rs`, or the loom build (`--cfg loom`) of the crate's
 # own models (`lib`) or of `pool/tests/TESTFILE.rs`.
 set -euo pipefail
