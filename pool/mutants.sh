@@ -29,13 +29,13 @@ run() {
     fi
     rm -rf "$out/$name"
     mkdir -p "$out/$name"
-    local start end
-    start=$(date +%s)
+    local start end commit
+    start=$(date +%s) commit=$(git rev-parse --short=7 HEAD)
     # cargo-mutants exits non-zero when some mutants are missed or time out: those are results.
     env $env cargo mutants --output "$out/$name" "$@" || true
     end=$(date +%s)
     [ -f "$out/$name/mutants.out/outcomes.json" ] || { echo "cargo-mutants wrote no outcomes" >&2; exit 1; }
-    COMMAND="$env cargo mutants $*" WALL=$((end - start)) COMMIT=$(git rev-parse --short=7 HEAD) \
+    COMMAND="$env cargo mutants $*" WALL=$((end - start)) COMMIT=$commit \
         MACHINE="$(lscpu | sed -n 's/^Model name: *//p' | head -1), nproc $(nproc)" \
         python3 - "$out/$name/mutants.out/outcomes.json" "results/pool-mutants-$name.json" <<'EOF'
 import json, os, sys
