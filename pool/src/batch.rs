@@ -23,13 +23,21 @@
 //! **Panics.** A panicking job is caught where it runs; its slot holds the panic, the others
 //! still run, and `batch` re-raises the first panic (in submission order) in the caller once
 //! every job has finished. The pool stays usable.
+//!
+//! **Where the code is.** This file owns what a batch *is*: [`Batch`], its result slots, its
+//! latch and the waiting rule. It adds no method to `ThreadPool`: every method of the pool,
+//! `batch` included, is in `pool.rs`, so that a reader looking for one of them opens one
+//! file; `ThreadPool::batch` there is four lines that make a `Batch`, push its jobs and wait.
+//!
+//! Invariant: a batch's results are read only once its latch is done, and the latch is done
+//! only once every job has stored its result and been recorded (`worker.rs`); so every slot
+//! is full when it is read.
 
 use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
 use std::sync::Arc;
 use std::thread;
 
 use crate::latch::CountLatch;
-use crate::pool::ThreadPool;
 use crate::queue::Job;
 use crate::sync::Mutex;
 use crate::worker::Registry;
@@ -37,32 +45,22 @@ use crate::worker::Registry;
 /// Where a batch's jobs leave their results, one slot each.
 type Slots<T> = Vec<Mutex<Option<thread::Result<T>>>>;
 
-impl ThreadPool {
-    /// Runs every job of `jobs` on the pool and returns their results in submission order.
-    ///
-    /// May be called from inside a job (a nested batch): a worker that waits runs other
-    /// queued jobs meanwhile, so nesting cannot deadlock the pool (see the module docs).
-    ///
-    /// # Panics
-    /// If a job panics, `batch` waits for all the others, then re-raises the first panic
-    /// (in submission order). The pool and its workers are unaffected.
-    ///
-    /// ```
-    /// use pool::{Discipline, ThreadPool};
-    /// let pool = ThreadPool::new(3, Discipline::Stealing).unwrap();
-    /// let squares = pool.batch((0..10u64).map(|i| move || i * i));
-    /// assert_eq!(squares, (0..10).map(|i| i * i).collect::<Vec<_>>());
-    /// ```
-    pub fn batch<T, F, I>(&self, jobs: I) -> Vec<T>
+/// A batch in flight: one result slot per job, and the latch its jobs count down.
+pub(crate) struct Batch<T> {
+    slots: Arc<Slots<T>>,
+    latch: Arc<CountLatch>,
+}
+
+impl<T: Send + 'static> Batch<T> {
+    /// The batch of `jobs`, and the jobs to push: each runs its closure, catching a panic,
+    /// and stores the outcome in its slot; its worker then counts the latch down.
+    pub(crate) fn new<F>(jobs: Vec<F>) -> (Batch<T>, Vec<Job>)
     where
-        I: IntoIterator<Item = F>,
         F: FnOnce() -> T + Send + 'static,
-        T: Send + 'static,
     {
-        let jobs: Vec<F> = jobs.into_iter().collect();
         let slots: Arc<Slots<T>> = Arc::new(jobs.iter().map(|_| Mutex::new(None)).collect());
         let latch = Arc::new(CountLatch::new(jobs.len()));
-        let wrapped: Vec<Job> = jobs
+        let wrapped = jobs
             .into_iter()
             .enumerate()
             .map(|(i, job)| {
@@ -72,18 +70,21 @@ impl ThreadPool {
                 Job { body: Box::new(body), latch: Some(Arc::clone(&latch)) }
             })
             .collect();
-        let registry = &self.registry;
-        let me = registry.current_worker();
-        registry.queue.push_batch(wrapped, me);
-        wait(registry, me, &latch);
+        (Batch { slots, latch }, wrapped)
+    }
+
+    /// Waits by the waiting rule (worker `me` of `registry` helps, any other thread sleeps),
+    /// then returns the results in submission order, or re-raises the first panic.
+    pub(crate) fn wait(self, registry: &Registry, me: Option<usize>) -> Vec<T> {
+        wait(registry, me, &self.latch);
         let results: Vec<_> =
-            slots.iter().map(|slot| slot.lock().take().expect("every job stored a result")).collect();
+            self.slots.iter().map(|slot| slot.lock().take().expect("every job stored a result")).collect();
         results.into_iter().map(|r| r.unwrap_or_else(|panic| resume_unwind(panic))).collect()
     }
 }
 
 /// Waits for `latch` by the waiting rule: worker `me` helps, other threads sleep.
-fn wait(registry: &Arc<Registry>, me: Option<usize>, latch: &CountLatch) {
+fn wait(registry: &Registry, me: Option<usize>, latch: &CountLatch) {
     if let Some(me) = me {
         while !latch.is_done() {
             match registry.queue.try_pop(Some(me)) {

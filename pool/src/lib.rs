@@ -19,17 +19,25 @@
 //!
 //! # Reading order
 //!
-//! 1. `queue.rs`: what a job is; the `JobQueue` interface; [`Discipline`].
+//! The modules are declared below in this order. No file imports one that imports it back,
+//! directly or through others: the `use` arrows between files form no circle (`queue.rs`
+//! uses only the latch a job carries and `sync.rs`; `pool.rs` is the only file that uses
+//! `batch.rs`, `discipline.rs` and `worker.rs` together).
+//!
+//! 1. `queue.rs`: what a job is; the [`JobQueue`] interface. It knows no discipline.
 //! 2. `locked.rs`: the textbook queue, a mutex and a condition variable.
 //! 3. `shared.rs`: the same with a channel; shutdown by disconnection.
-//! 4. `sleep.rs` then `steal.rs`: per-worker deques, stealing, sleeping without lost wake-ups.
-//! 5. `worker.rs`: the worker loop, panics, the thread-local "which worker am I".
-//! 6. `latch.rs` then `batch.rs`: waiting for many jobs; why waiting workers must help.
-//! 7. `stats.rs`: counting and timing what workers do.
-//! 8. `pool.rs`: building, submitting, dropping.
-//! 9. `sync.rs`: where the locks, atomics and threads come from, and how the loom model
-//!    checker swaps them; the models sit at the end of each protocol's file.
-//! 10. `conformance.rs`: the contract checked on any queue, including one written outside
+//! 4. `sleep.rs` then `steal.rs`: per-worker deques, `pop` and `steal`, sleeping without lost
+//!    wake-ups.
+//! 5. `discipline.rs`: [`Discipline`], the three queues above by name.
+//! 6. `worker.rs`: the worker loop, panics, the thread-local "which worker am I".
+//! 7. `latch.rs` then `batch.rs`: waiting for many jobs; why waiting workers must help.
+//! 8. `stats.rs`: counting and timing what workers do; [`imbalance`].
+//! 9. `pool.rs`: [`ThreadPool`], every method of it: building, submitting, dropping.
+//! 10. `sync.rs`: where the locks, atomics and threads come from, and how the loom model
+//!     checker swaps them; the models sit at the end of each protocol's file.
+//! 11. [`deadline`]: waiting without hanging, the helper every test of the workspace uses.
+//! 12. [`conformance`]: the contract checked on any queue, including one written outside
 //!     this crate on the public [`JobQueue`] trait and given to [`Builder::queue`].
 //!
 //! # Checked, not hoped
@@ -51,13 +59,16 @@
 //! # Break it
 //!
 //! Three plausible bugs live in `pool/break-it/` as patches; `pool/break-it/run.sh NAME`
-//! plants one in a copy of this crate and runs both kinds of check on it (about a minute):
+//! plants one in a copy of this crate and runs both kinds of check on it (about a minute).
+//! Each patch names the test that must catch it; `pool/break-it/run.sh --check` plants every
+//! one and fails unless that test fails, and CI (`.ci/run`) runs it. What each caught, run on
+//! the code as it is now (2026-12-03, 2-core Intel Xeon under load from other builds):
 //!
-//! | bug | what loom says | what the stress tests say | the invariant it breaks |
-//! |---|---|---|---|
-//! | `lost-wakeup`: a sleeper counts itself in `sleepers` only once it has decided to sleep | `deadlock`: the pusher blocked in `join`, the worker in `sleep.rs`'s `wait` (6 models fail) | nothing: the window is nanoseconds wide, 20,000 hand-offs pass | a sleeper registers *before* it looks for work (`sleep.rs`) |
-//! | `early-latch`: a worker counts the batch's latch down before recording the job | `Locked: the caller saw unrecorded jobs` (`left: 1`, `right: 2`) | `random_job_lengths_keep_order_and_count`: `the batch returned before every job was recorded` (`left: 499`, `right: 500`) | the latch opens only after the job's bookkeeping (`worker.rs`) |
-//! | `waiter-does-not-help`: a worker waiting on a batch just sleeps | `deadlock`: both threads in `latch.rs`'s `wait` | `waited 15 s for Shared: the nested batch to return: it never happened` | the waiting rule (`batch.rs`) |
+//! | bug | the test CI requires to fail, and what it says | the invariant it breaks |
+//! |---|---|---|
+//! | `lost-wakeup`: a sleeper counts itself in `sleepers` only once it has decided to sleep | loom, `sleep::model::model_a_pusher_wakes_one_sleeper`: `deadlock`, the pusher blocked joining (`sleep.rs` line 158), the worker in `sleep_unless`'s `wait` (line 85; lines of the planted file). The stress tests cannot see it: the window is nanoseconds wide | a sleeper registers *before* it looks for work (`sleep.rs`) |
+//! | `early-latch`: a worker counts the batch's latch down before recording the job | loom, `tests/loom.rs` `model_batch_returns_after_every_job_and_its_bookkeeping`: `the caller saw unrecorded jobs` (`left: 1`, `right: 2`, at `tests/loom.rs:34`). The stress test `random_job_lengths_keep_order_and_count` sees it only when a worker is preempted in the window (it passed once with the bug planted) | the latch opens only after the job's bookkeeping (`worker.rs`) |
+//! | `waiter-does-not-help`: a worker waiting on a batch just sleeps | stress, `a_waiting_worker_returns_as_soon_as_its_batch_is_done`: `waited 15 s for Shared: the nested batch to return: it never happened` | the waiting rule (`batch.rs`) |
 //!
 //! # Example
 //!
@@ -91,19 +102,22 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
-mod batch;
-pub mod conformance;
-mod latch;
-mod locked;
-mod pool;
 mod queue;
+mod locked;
 mod shared;
 mod sleep;
-mod stats;
 mod steal;
-mod sync;
+mod discipline;
 mod worker;
+mod latch;
+mod batch;
+mod stats;
+mod pool;
+mod sync;
+pub mod deadline;
+pub mod conformance;
 
+pub use discipline::Discipline;
 pub use pool::{BuildError, Builder, ThreadPool};
-pub use queue::{Discipline, Job, JobQueue, MakeQueue, Popped};
-pub use stats::{JobSpan, PoolStats, WorkerStats};
+pub use queue::{Job, JobQueue, MakeQueue, Popped};
+pub use stats::{JobSpan, PoolStats, WorkerStats, imbalance};

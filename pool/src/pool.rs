@@ -1,5 +1,9 @@
-//! The pool itself: building it, submitting fire-and-forget jobs, reading its statistics,
-//! and shutting it down.
+//! The pool itself: building it, submitting jobs (fire-and-forget, or a batch whose results
+//! come back), reading its statistics, and shutting it down.
+//!
+//! This file holds every method of [`ThreadPool`]; the machinery they stand on has a file per
+//! concept (`worker.rs` the threads, `batch.rs` a batch and its waiting rule, `stats.rs` the
+//! counters), so the type's interface reads in one place and each idea in its own.
 //!
 //! Lifetime: `build` starts every worker at once (named `pool-worker-0`, `pool-worker-1`,
 //! …); they live exactly as long as the `ThreadPool`. Dropping the pool closes the queue,
@@ -10,7 +14,9 @@ use std::fmt;
 use std::sync::Arc;
 use std::time::Instant;
 
-use crate::queue::{Discipline, Job, MakeQueue};
+use crate::batch::Batch;
+use crate::discipline::Discipline;
+use crate::queue::{Job, MakeQueue};
 use crate::stats::{JobSpan, PoolStats, WorkerCounters};
 use crate::sync::{JoinHandle, thread};
 use crate::worker::Registry;
@@ -25,7 +31,7 @@ use crate::worker::Registry;
 /// assert_eq!(total, 5050);
 /// ```
 pub struct ThreadPool {
-    pub(crate) registry: Arc<Registry>,
+    registry: Arc<Registry>,
     threads: Vec<JoinHandle<()>>,
     discipline: Option<Discipline>,
 }
@@ -196,6 +202,34 @@ impl ThreadPool {
     pub fn spawn<F: FnOnce() + Send + 'static>(&self, job: F) {
         let me = self.registry.current_worker();
         self.registry.queue.push(Job::detached(job), me);
+    }
+
+    /// Runs every job of `jobs` on the pool and returns their results in submission order.
+    ///
+    /// May be called from inside a job (a nested batch): a worker that waits runs other
+    /// queued jobs meanwhile, so nesting cannot deadlock the pool (the waiting rule,
+    /// `batch.rs`).
+    ///
+    /// # Panics
+    /// If a job panics, `batch` waits for all the others, then re-raises the first panic
+    /// (in submission order). The pool and its workers are unaffected.
+    ///
+    /// ```
+    /// use pool::{Discipline, ThreadPool};
+    /// let pool = ThreadPool::new(3, Discipline::Stealing).unwrap();
+    /// let squares = pool.batch((0..10u64).map(|i| move || i * i));
+    /// assert_eq!(squares, (0..10).map(|i| i * i).collect::<Vec<_>>());
+    /// ```
+    pub fn batch<T, F, I>(&self, jobs: I) -> Vec<T>
+    where
+        I: IntoIterator<Item = F>,
+        F: FnOnce() -> T + Send + 'static,
+        T: Send + 'static,
+    {
+        let (batch, jobs) = Batch::new(jobs.into_iter().collect());
+        let me = self.registry.current_worker();
+        self.registry.queue.push_batch(jobs, me);
+        batch.wait(&self.registry, me)
     }
 
     /// Number of worker threads.

@@ -2,8 +2,10 @@
 //!
 //! A *job* is a boxed closure run exactly once by some thread. A *queue discipline* decides
 //! where a submitted job waits and which thread takes it. The pool talks to its queue only
-//! through [`JobQueue`], so the three disciplines (`shared.rs`, `locked.rs`, `steal.rs`) can be
-//! read, and measured, side by side.
+//! through [`JobQueue`], so the three disciplines (`locked.rs`, `shared.rs`, `steal.rs`) can be
+//! read, and measured, side by side. This file knows none of them: they import it, and
+//! `discipline.rs`, read after them, is where [`Discipline`](crate::Discipline) names and
+//! builds them.
 //!
 //! [`JobQueue`] is public so that a discipline can also be written outside this crate (a
 //! course assignment's, say) and given to [`Builder::queue`](crate::Builder::queue);
@@ -19,9 +21,6 @@
 use std::sync::Arc;
 
 use crate::latch::CountLatch;
-use crate::locked::LockedQueue;
-use crate::shared::SharedQueue;
-use crate::steal::StealQueue;
 
 /// A unit of work: run once, on some thread. Opaque to a queue, which only stores jobs and
 /// hands them out; the pool's workers run them.
@@ -50,63 +49,16 @@ pub struct Popped {
 }
 
 /// Makes the queue of a pool of `workers` workers: what [`Builder::queue`](crate::Builder::queue)
-/// takes, and what [`Discipline::queue`] gives for the built-in disciplines.
-pub type MakeQueue = fn(workers: usize) -> Box<dyn JobQueue>;
-
-/// How a [`ThreadPool`](crate::ThreadPool) queues its jobs, chosen at construction.
+/// takes, and what [`Discipline::queue`](crate::Discipline::queue) gives for the built-in
+/// disciplines.
 ///
 /// ```
-/// use pool::{Discipline, ThreadPool};
-/// for discipline in Discipline::ALL {
-///     let pool = ThreadPool::new(2, discipline).unwrap();
-///     assert_eq!(pool.batch((0..4).map(|i| move || i * i)), vec![0, 1, 4, 9]);
-/// }
+/// use pool::{Discipline, MakeQueue, ThreadPool};
+/// let make: MakeQueue = Discipline::Stealing.queue();
+/// let pool = ThreadPool::builder().workers(2).queue(make).build().unwrap();
+/// assert_eq!(pool.batch([|| 'a', || 'b']), vec!['a', 'b']);
 /// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Discipline {
-    /// One FIFO shared by all workers: a multi-producer multi-consumer channel. The seed
-    /// paper's thread pool. Every push and pop touches the same channel.
-    #[default]
-    Shared,
-    /// One `Mutex<VecDeque>` with a `Condvar`: the textbook monitor-based pool, kept to
-    /// compare with the channel.
-    Locked,
-    /// One deque per worker: a worker takes from the front of its own and, when it is empty,
-    /// steals from the back of another's. Batches are dealt out in contiguous runs, so
-    /// stealing is what balances an uneven load.
-    Stealing,
-}
-
-impl Discipline {
-    /// Every discipline. The pool's tests (`pool/tests/`) and its benchmark (`cargo bench
-    /// --bench pool`) iterate over this list, so a discipline added here is tested and
-    /// measured with no other list to edit.
-    ///
-    /// ```
-    /// use pool::{Discipline, ThreadPool};
-    /// for discipline in Discipline::ALL {
-    ///     let pool = ThreadPool::new(2, discipline).unwrap();
-    ///     assert_eq!(pool.discipline(), Some(discipline));
-    /// }
-    /// assert_eq!(Discipline::ALL.len(), 3);
-    /// ```
-    pub const ALL: [Discipline; 3] = [Discipline::Shared, Discipline::Locked, Discipline::Stealing];
-
-    /// How this discipline's queue is made.
-    ///
-    /// ```
-    /// let make = pool::Discipline::Locked.queue();
-    /// let queue = make(2);
-    /// assert!(queue.try_pop(None).is_none(), "a new queue is empty");
-    /// ```
-    pub fn queue(self) -> MakeQueue {
-        match self {
-            Discipline::Shared => |_| Box::new(SharedQueue::new()),
-            Discipline::Locked => |_| Box::new(LockedQueue::new()),
-            Discipline::Stealing => |workers| Box::new(StealQueue::new(workers)),
-        }
-    }
-}
+pub type MakeQueue = fn(workers: usize) -> Box<dyn JobQueue>;
 
 /// The operations the pool needs from a queue discipline. `me` is the calling worker's
 /// index (`0..workers`), or `None` for a thread that is not one of the pool's workers.
@@ -205,7 +157,8 @@ pub(crate) mod model {
         }
     }
 
-    /// Runs jobs from `queue` as `me` until `take` finds none.
+    /// Runs the jobs that `take` hands out (a worker's `wait_pop`, a thief's `try_pop`) until
+    /// it hands out none.
     pub(crate) fn run_until_none(take: impl Fn() -> Option<super::Popped>) {
         while let Some(popped) = take() {
             (popped.job.body)();

@@ -78,11 +78,26 @@ impl PoolStats {
     /// assert_eq!(stats.imbalance(), 1.5); // 30 ms against a mean of 20 ms
     /// ```
     pub fn imbalance(&self) -> f64 {
-        let busy: Vec<f64> = self.workers.iter().map(|w| w.busy.as_secs_f64()).collect();
-        let mean = busy.iter().sum::<f64>() / busy.len().max(1) as f64;
-        let max = busy.iter().cloned().fold(0.0, f64::max);
-        if mean > 0.0 { max / mean } else { 1.0 }
+        imbalance(&self.workers.iter().map(|w| w.busy.as_secs_f64()).collect::<Vec<f64>>())
     }
+}
+
+/// Load imbalance of busy times, one per thread (any unit): the largest over the mean. 1.0 is
+/// a perfect balance, the number of threads means one did everything; 1.0 when there is
+/// nothing to compare (no threads, or no time at all). The one formula of the workspace:
+/// [`PoolStats::imbalance`] and the renderer's schedulers both use it.
+///
+/// ```
+/// assert_eq!(pool::imbalance(&[3.0, 1.0]), 1.5); // 3 against a mean of 2
+/// assert_eq!(pool::imbalance(&[2.0, 2.0, 2.0]), 1.0);
+/// assert_eq!(pool::imbalance(&[4.0, 0.0, 0.0, 0.0]), 4.0); // one thread of four did it all
+/// assert_eq!(pool::imbalance(&[]), 1.0);
+/// assert_eq!(pool::imbalance(&[0.0, 0.0]), 1.0);
+/// ```
+pub fn imbalance(busy: &[f64]) -> f64 {
+    let mean = busy.iter().sum::<f64>() / busy.len().max(1) as f64;
+    let max = busy.iter().copied().fold(0.0, f64::max);
+    if mean > 0.0 { max / mean } else { 1.0 }
 }
 
 /// When and where one job ran (recorded only by an instrumented pool).

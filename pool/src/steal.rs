@@ -7,9 +7,10 @@
 //!   worker 2: [ 8  9 10 11 ]   ← worker 2 finished early: steals 7 from worker 1's back
 //! ```
 //!
-//! A worker takes its own jobs from the front of its deque, in the order they were dealt;
-//! a thief takes from the *back* of a victim's deque, the job its owner would reach last,
-//! so owner and thief work at opposite ends and a run is split where it hurts least.
+//! Two roles, two methods, named as crossbeam-deque names them: the owner *pops* its own jobs
+//! from the front of its deque, in the order they were dealt (`pop`); a thief *steals* from
+//! the back of a victim's deque, the job its owner would reach last (`steal`), so owner and
+//! thief work at opposite ends and a run is split where it hurts least.
 //!
 //! Each deque is a `parking_lot::Mutex<VecDeque>`: a lock per deque rather than the lock-free
 //! Chase–Lev deque of rayon and crossbeam-deque, because this crate is safe Rust and a lesson.
@@ -49,7 +50,7 @@ impl StealQueue {
             work_count: AtomicUsize::new(0),
             closed: AtomicBool::new(false),
             next_deque: AtomicUsize::new(0),
-            sleep: Sleep::new(),
+            sleep: Sleep::default(),
         }
     }
 
@@ -61,20 +62,30 @@ impl StealQueue {
         self.work_count.fetch_add(deque.len() - before, SeqCst);
     }
 
-    /// Takes a job from deque `victim`, front or back, and uncounts it, under its lock.
-    fn take(&self, victim: usize, front: bool) -> Option<Job> {
-        let mut deque = self.deques[victim].lock();
-        let job = if front { deque.pop_front() } else { deque.pop_back() }?;
+    /// The owner's role: worker `me` takes the job at the *front* of its own deque (the next
+    /// in the order they were dealt) and uncounts it, under that deque's lock.
+    fn pop(&self, me: usize) -> Option<Job> {
+        let mut deque = self.deques[me].lock();
+        let job = deque.pop_front()?;
         self.work_count.fetch_sub(1, SeqCst);
         Some(job)
     }
 
-    /// Steals from the back of the other deques, starting with the next worker's so that
+    /// The thief's role: takes the job at the *back* of deque `victim` (the one its owner
+    /// would reach last) and uncounts it, under that deque's lock.
+    fn steal(&self, victim: usize) -> Option<Job> {
+        let mut deque = self.deques[victim].lock();
+        let job = deque.pop_back()?;
+        self.work_count.fetch_sub(1, SeqCst);
+        Some(job)
+    }
+
+    /// Steals from the other deques in turn, starting with the next worker's so that
     /// thieves spread over victims instead of all raiding worker 0.
-    fn steal(&self, me: Option<usize>) -> Option<Job> {
+    fn steal_from_others(&self, me: Option<usize>) -> Option<Job> {
         let n = self.deques.len();
         let start = me.map_or(0, |m| m + 1);
-        (0..n).map(|k| (start + k) % n).filter(|&v| Some(v) != me).find_map(|v| self.take(v, false))
+        (0..n).map(|k| (start + k) % n).filter(|&v| Some(v) != me).find_map(|v| self.steal(v))
     }
 }
 
@@ -98,9 +109,9 @@ impl JobQueue for StealQueue {
     }
 
     fn try_pop(&self, me: Option<usize>) -> Option<Popped> {
-        match me.and_then(|m| self.take(m, true)) {
+        match me.and_then(|m| self.pop(m)) {
             Some(job) => Some(Popped { job, stolen: false }),
-            None => Some(Popped { job: self.steal(me)?, stolen: true }),
+            None => Some(Popped { job: self.steal_from_others(me)?, stolen: true }),
         }
     }
 

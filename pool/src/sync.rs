@@ -16,7 +16,8 @@
 //! returns the guard, `wait(&mut guard)`), which is the one the pool is written against.
 //!
 //! Not swapped: `Arc` (loom's only adds leak checks) and crossbeam's channel, which loom
-//! cannot see inside; the `Shared` queue is therefore not model-checked (see `shared.rs`).
+//! cannot see inside; the `Shared` queue is therefore not model-checked (`pool/tests/loom.rs`
+//! says why, and what covers it instead).
 //!
 //! ```text
 //!   cargo test -p pool                                    parking_lot + std, real threads

@@ -176,11 +176,10 @@ impl Rendered {
     }
 
     /// Load imbalance: the busiest thread's rendering time over the mean across threads
-    /// (1.0 = perfect balance; a scheduler's idle threads do not count as threads).
+    /// (1.0 = perfect balance; a scheduler's idle threads do not count as threads), by the
+    /// pool's formula, [`pool::imbalance`].
     pub fn imbalance(&self) -> f64 {
-        let busy = self.busy_per_thread();
-        let mean = busy.iter().sum::<f64>() / busy.len().max(1) as f64;
-        if mean > 0.0 { busy.iter().cloned().fold(0.0, f64::max) / mean } else { 1.0 }
+        pool::imbalance(&self.busy_per_thread())
     }
 
     /// Seconds spent rendering tiles, per thread, in order of each thread's first tile.

@@ -1,53 +1,20 @@
 //! No test may hang. Whatever a test waits for (a render on several threads, a `raypool`
 //! process) it waits for under a deadline, and when the deadline passes the test fails with
 //! "waited N s for WHAT: it never happened", naming what never happened, instead of stalling
-//! `cargo test` until a CI limit kills it with no word of where. [`within`] runs a test body on
-//! a thread of its own; [`output_within`] runs a child process to completion (it replaces
-//! `Command::output`). The pool's tests have the same helper (`pool/tests/common/mod.rs`).
-#![allow(dead_code)] // each test file uses a part of these
+//! `cargo test` until a CI limit kills it with no word of where.
+//!
+//! The helper is the workspace's one, `pool::deadline`: [`within`] (re-exported here) runs a
+//! test body on a thread of its own, and [`deadline`] is its limit (120 s, or
+//! `RAYPOOL_TEST_DEADLINE` seconds). What stays here is the root crate's own: [`output_within`]
+//! runs a child process to completion (it replaces `Command::output`), and [`skipped`].
+#![allow(dead_code, unused_imports)] // each test file uses a part of these
 
 use std::io::Read;
-use std::panic::resume_unwind;
 use std::process::{Command, Output, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-/// How long any one wait of a test may take before the test fails: 120 s, or
-/// `RAYPOOL_TEST_DEADLINE` seconds. Far above what the slowest test needs in the README's
-/// `cargo test --release` (a few seconds of rendering on a loaded 2-core machine), far below a
-/// CI time limit.
-pub fn deadline() -> Duration {
-    let seconds = std::env::var("RAYPOOL_TEST_DEADLINE").ok().and_then(|s| s.parse().ok());
-    Duration::from_secs(seconds.unwrap_or(120))
-}
-
-/// Runs `body` on a thread of its own and waits for it at most [`deadline`]. If it has not
-/// finished by then, the test fails with "waited N s for `what`: it never happened" (so
-/// `what` reads "the render to finish"): a scheduler that never returns (a lost wake-up, a
-/// worker waiting on a tile nobody renders) is a failure one can read, not a hang. The stuck
-/// thread is left behind; the test binary exits regardless.
-///
-/// A panic in `body` (a failed assertion) is re-raised here unchanged.
-pub fn within<T: Send + 'static>(what: impl AsRef<str>, body: impl FnOnce() -> T + Send + 'static) -> T {
-    let limit = deadline();
-    let (done, finished) = mpsc::channel();
-    let thread = std::thread::Builder::new()
-        .name("test-body".into())
-        .spawn(move || {
-            let _ = done.send(body());
-        })
-        .expect("a test thread starts");
-    match finished.recv_timeout(limit) {
-        Ok(value) => value,
-        Err(mpsc::RecvTimeoutError::Disconnected) => match thread.join() {
-            Err(panic) => resume_unwind(panic),
-            Ok(()) => unreachable!("the body sends before it returns"),
-        },
-        Err(mpsc::RecvTimeoutError::Timeout) => {
-            panic!("waited {} s for {}: it never happened", limit.as_secs(), what.as_ref())
-        }
-    }
-}
+pub use pool::deadline::{limit as deadline, within};
 
 /// `command.output()`, waiting at most [`deadline`]: runs the child with stdin closed and
 /// stdout and stderr captured, each pipe read on a thread of its own (so a child that fills
@@ -58,7 +25,8 @@ pub fn within<T: Send + 'static>(what: impl AsRef<str>, body: impl FnOnce() -> T
 pub fn output_within(command: &mut Command, what: impl AsRef<str>) -> Output {
     let (limit, start, line) = (deadline(), Instant::now(), format!("{command:?}"));
     let never = |how: &str| -> String {
-        format!("waited {} s for {}: it never happened ({how}: {line})", limit.as_secs(), what.as_ref())
+        let missed = pool::deadline::Missed { what: what.as_ref().to_string(), limit };
+        format!("{missed} ({how}: {line})")
     };
     let mut child = command
         .stdin(Stdio::null())
