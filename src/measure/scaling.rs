@@ -119,14 +119,14 @@ pub fn predict(costs: &Costs, mode: Schedule, threads: usize) -> Prediction {
     };
     // No rule leaves a worker idle while work remains, so each finishes at its busy time.
     let seconds = busy.iter().copied().fold(0.0, f64::max);
+    // Idle workers do not count as threads, as in a measured render's imbalance.
     let working: Vec<f64> = busy.into_iter().filter(|&b| b > 0.0).collect();
-    let mean = working.iter().sum::<f64>() / working.len().max(1) as f64;
     Prediction {
         mode,
         threads: if mode == Schedule::Serial { 1 } else { t },
         seconds,
         speedup: if seconds > 0.0 { costs.serial() / seconds } else { 1.0 },
-        imbalance: if mean > 0.0 { seconds / mean } else { 1.0 },
+        imbalance: pool::imbalance(&working),
     }
 }
 

@@ -43,7 +43,8 @@ impl Packet {
     ///
     /// ```
     /// use raypool::tracer::accel::packet::Packet;
-    /// use raypool::tracer::{ray::Ray, real::{Real, Vec3}, sphere::{Closest, Sphere}};
+    /// use raypool::tracer::geometry::{hit::Closest, sphere::Sphere};
+    /// use raypool::tracer::math::{ray::Ray, real::{Real, Vec3}};
     /// let ball = |x: Real| Sphere { center: Vec3::new(x, 0.0, -5.0), radius: 1.0, material: 0 };
     /// let packet = Packet::new(&[ball(0.0), ball(0.5)], 7);
     /// let mut closest = Closest::none(Real::INFINITY);

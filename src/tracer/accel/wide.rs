@@ -79,7 +79,9 @@ impl WideBvh {
     /// array on), into a four-wide hierarchy.
     ///
     /// ```
-    /// use raypool::tracer::{bvh::Bvh, wide::WideBvh, ray::Ray, real::{Real, Vec3}, sphere::{Closest, Sphere}};
+    /// use raypool::tracer::accel::{bvh::Bvh, wide::WideBvh};
+    /// use raypool::tracer::geometry::{hit::Closest, sphere::Sphere};
+    /// use raypool::tracer::math::{ray::Ray, real::{Real, Vec3}};
     /// let mut balls: Vec<Sphere> = (0..50)
     ///     .map(|k| Sphere { center: Vec3::new(k as Real * 3.0, 0.0, -10.0), radius: 1.0, material: 0 })
     ///     .collect();
