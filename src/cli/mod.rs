@@ -18,6 +18,7 @@ use crate::cli::interrupt::Interrupt;
 use crate::error::Error;
 use crate::files::output::{Format, PendingOutput};
 use crate::files::part::{Part, PartSettings, merge, scene_digest};
+use crate::measure::machine::cpus;
 use crate::measure::scaling::{Study, measure_costs, measure_rounds, write_report};
 use crate::measure::speedup::{Preset, write_reports};
 use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
@@ -311,7 +312,7 @@ pub fn run(cli: Cli) -> Result<(), Error> {
             Ok(())
         }
         Command::Bench { paper: true, spp, out_dir, .. } => {
-            let threads = default_threads();
+            let threads = cpus();
             let cells = crate::measure::speedup::paper_table(spp, threads, |line| eprintln!("{line}"))?;
             let command = format!("raypool bench --paper --spp {spp}");
             crate::measure::speedup::write_paper_table(&out_dir, &cells, spp, threads, &command)?;
@@ -326,7 +327,7 @@ pub fn run(cli: Cli) -> Result<(), Error> {
             eprintln!("wrote {}/speedup.md, speedup.csv, speedup.png, timeline-*.png", out_dir.display());
             if quick {
                 // A rough paper table too: 2 spp, scaled to the paper's 500 (labelled so).
-                let threads = default_threads();
+                let threads = cpus();
                 let cells = crate::measure::speedup::paper_table(QUICK_PAPER_SPP, threads, |line| {
                     eprintln!("{line}")
                 })?;
@@ -389,7 +390,7 @@ fn render_command(args: &RenderArgs) -> Result<(), Error> {
     let image = &args.image;
     let scene = load_scene(image)?;
     let settings = render_settings(image, &scene, args.workers.rng)?;
-    let threads = args.workers.threads.map_or_else(default_threads, |t| t as usize);
+    let threads = args.workers.threads.map_or_else(cpus, |t| t as usize);
     let shard = check_shard(args, Format::from_path(&args.out)?)?;
     let pixels: usize =
         shard.tiles(&Tile::grid(settings.width, settings.height, image.tile)).iter().map(Tile::area).sum();
@@ -466,8 +467,7 @@ fn simulate_command(args: &SimulateArgs) -> Result<(), Error> {
     threads.dedup();
     let (mut serial_seconds, mut measured) = (None, Vec::new());
     if args.measure {
-        let here: Vec<usize> =
-            threads.iter().copied().filter(|t| (2..=default_threads()).contains(t)).collect();
+        let here: Vec<usize> = threads.iter().copied().filter(|t| (2..=cpus()).contains(t)).collect();
         eprintln!("measuring serial and every mode at {here:?} threads, {} rounds", args.runs);
         let (serial, runs) = measure_rounds(&job, image.tile, &here, args.runs as usize);
         (serial_seconds, measured) = (Some(serial), runs);
@@ -598,11 +598,6 @@ fn positive_fraction(text: &str) -> Result<f64, String> {
         Ok(_) => Err("must be above 0 and at most 1".to_string()),
         Err(_) => Err("not a number".to_string()),
     }
-}
-
-/// The number of CPUs this process may use.
-pub fn default_threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
 /// A bar on stderr when it is a terminal; hidden (and free) otherwise.

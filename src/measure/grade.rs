@@ -36,7 +36,7 @@ use pool::{Discipline, MakeQueue, ThreadPool};
 use crate::error::Error;
 use crate::files::image::Image;
 use crate::files::output::write_text;
-use crate::measure::machine::Machine;
+use crate::measure::machine::{Machine, Sweep, thread_counts};
 use crate::measure::speedup::median;
 use crate::scenes::format::SceneFile;
 use crate::schedule::conformance;
@@ -81,26 +81,6 @@ pub struct Options {
     /// Where to write the report (Markdown)
     #[arg(long, default_value = "grade.md")]
     pub out: PathBuf,
-}
-
-impl Options {
-    /// The thread counts asked for, or the default list.
-    ///
-    /// ```
-    /// use raypool::measure::grade::Options;
-    /// let options = Options { threads: vec![], rounds: 1, out: "grade.md".into() };
-    /// assert_eq!(options.thread_counts()[0], 1);
-    /// ```
-    pub fn thread_counts(&self) -> Vec<usize> {
-        if !self.threads.is_empty() {
-            return self.threads.clone();
-        }
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let mut counts: Vec<usize> =
-            std::iter::successors(Some(1), |t| Some(t * 2)).take_while(|&t| t < cores).collect();
-        counts.push(cores);
-        counts
-    }
 }
 
 /// A count of at least 1 (clap's parser for `--threads`).
@@ -363,7 +343,7 @@ pub fn points(ratio: f64) -> f64 {
 /// Grades `submission`: conformance at every thread count of `options` (and 1), then the
 /// workloads. `log` gets a progress line per step.
 pub fn grade(submission: &Submission, options: &Options, mut log: impl FnMut(&str)) -> Result<Report, Error> {
-    let counts = options.thread_counts();
+    let counts = thread_counts(&options.threads, Sweep::DoublingsToTheCpus);
     let queue = matches!(submission.entry, Entry::Queue(_));
     let on_queue;
     let (scheduler, reference_scheduler, reference): (&dyn Scheduler, Box<dyn Scheduler>, _) =

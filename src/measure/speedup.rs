@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use crate::error::Error;
 use crate::files::output::write_text;
-use crate::measure::machine::Machine;
+use crate::measure::machine::{Machine, Sweep, cpus, thread_counts};
 use crate::measure::plot::{Series, speedup_plot, timeline_plot};
 use crate::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use crate::schedule::frame::{DEFAULT_TILE, Frame};
@@ -56,22 +56,6 @@ impl Preset {
             shared_rng_scenes: vec!["paper1", "final"],
             threads: Vec::new(),
         }
-    }
-
-    /// The thread counts measured: [`Preset::threads`], or 1, 2, … 2 × cores.
-    ///
-    /// ```
-    /// use raypool::measure::speedup::Preset;
-    /// let preset = Preset { threads: vec![1, 4, 64], ..Preset::quick() };
-    /// assert_eq!(preset.thread_counts(), vec![1, 4, 64]);
-    /// assert_eq!(Preset::quick().thread_counts()[0], 1);
-    /// ```
-    pub fn thread_counts(&self) -> Vec<usize> {
-        if !self.threads.is_empty() {
-            return self.threads.clone();
-        }
-        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-        (1..=2 * cores).collect()
     }
 }
 
@@ -222,8 +206,8 @@ fn configurations<'a>(
 /// Runs the benchmark: the built-in modes plus `extra` contenders (e.g. a rayon baseline).
 /// `log` receives one line per measured configuration.
 pub fn run(preset: &Preset, extra: &[Contender], mut log: impl FnMut(&str)) -> Result<Outcome, Error> {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let thread_counts = preset.thread_counts();
+    let cores = cpus();
+    let thread_counts = thread_counts(&preset.threads, Sweep::EveryCountToTwiceTheCpus);
     let timeline_threads = thread_counts.iter().copied().min_by_key(|&t| t.abs_diff(cores)).unwrap_or(cores);
     let builtins: Vec<Contender> =
         Schedule::ALL[1..].iter().map(|s| Contender { name: s.name().to_owned(), scheduler: s }).collect();

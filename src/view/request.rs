@@ -10,8 +10,9 @@
 
 use clap::Parser;
 
-use crate::cli::{ViewArgs, default_threads, load_scene, one_line, render_settings};
+use crate::cli::{ViewArgs, load_scene, one_line, render_settings};
 use crate::error::Error;
+use crate::measure::machine::cpus;
 use crate::scenes::format::SceneFile;
 use crate::tracer::render::RenderJob;
 use crate::view::session::Config;
@@ -30,7 +31,7 @@ pub const MAX_TILE: u32 = 64;
 /// The most worker threads a viewer render may use: four per core this machine offers (past
 /// one per core a render only waits; the margin shows it). Requests for more get a 400.
 pub fn max_threads() -> usize {
-    4 * default_threads()
+    4 * cpus()
 }
 
 /// What `raypool view`'s flags parse into, for parsing a request the same way.
@@ -91,7 +92,7 @@ pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>)
     if settings.adaptive.is_some() {
         return Err(Error::new("the viewer renders progressive passes, not adaptive sampling"));
     }
-    let threads = args.workers.threads.map_or_else(default_threads, |t| t as usize);
+    let threads = args.workers.threads.map_or_else(cpus, |t| t as usize);
     if threads > max_threads() {
         return Err(Error::new(format!(
             "--threads {threads} is more than the viewer's limit of {} (four per core here)",
