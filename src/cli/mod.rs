@@ -20,7 +20,8 @@ use crate::files::output::{Format, PendingOutput};
 use crate::files::part::{Part, PartSettings, merge, scene_digest};
 use crate::measure::machine::cpus;
 use crate::measure::scaling::{Study, measure_costs, measure_rounds, write_report};
-use crate::measure::speedup::{Preset, write_reports};
+use crate::measure::speedup::Preset;
+use crate::measure::speedup::report::write_reports;
 use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use crate::scenes::format::SceneFile;
 use crate::schedule::frame::{DEFAULT_TILE, Frame};
@@ -313,9 +314,9 @@ pub fn run(cli: Cli) -> Result<(), Error> {
         }
         Command::Bench { paper: true, spp, out_dir, .. } => {
             let threads = cpus();
-            let cells = crate::measure::speedup::paper_table(spp, threads, |line| eprintln!("{line}"))?;
+            let cells = crate::measure::speedup::paper::paper_table(spp, threads, |line| eprintln!("{line}"))?;
             let command = format!("raypool bench --paper --spp {spp}");
-            crate::measure::speedup::write_paper_table(&out_dir, &cells, spp, threads, &command)?;
+            crate::measure::speedup::paper::write_paper_table(&out_dir, &cells, spp, threads, &command)?;
             eprintln!("wrote {}/paper-table.md", out_dir.display());
             Ok(())
         }
@@ -328,10 +329,10 @@ pub fn run(cli: Cli) -> Result<(), Error> {
             if quick {
                 // A rough paper table too: 2 spp, scaled to the paper's 500 (labelled so).
                 let threads = cpus();
-                let cells = crate::measure::speedup::paper_table(QUICK_PAPER_SPP, threads, |line| {
+                let cells = crate::measure::speedup::paper::paper_table(QUICK_PAPER_SPP, threads, |line| {
                     eprintln!("{line}")
                 })?;
-                crate::measure::speedup::write_paper_table(
+                crate::measure::speedup::paper::write_paper_table(
                     &out_dir,
                     &cells,
                     QUICK_PAPER_SPP,
