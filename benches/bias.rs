@@ -13,7 +13,7 @@ use std::fmt::Write as _;
 use std::sync::Arc;
 
 use raypool::measure::convergence::Reference;
-use raypool::measure::machine::{Machine, results_dir};
+use raypool::measure::machine::{Machine, cpus, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::Frame;
 use raypool::schedule::modes::{Schedule, render};
@@ -59,7 +59,7 @@ fn mean_and_error(values: &[f64]) -> (f64, f64) {
 }
 
 fn main() {
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = cpus();
     let scene_of = |name: &str| builtin_scene(name, DEFAULT_SCENE_SEED).expect("built-in").to_scene();
     let mut md = String::from("# Bias: every sampling method's mean image\n\n");
     // `--quick` (for `benches/all.sh --quick`): a quarter of the seeds and of the reference.

@@ -18,7 +18,7 @@ use std::path::Path;
 use raypool::files::image::Image;
 use raypool::files::output::{Format, encode, read_pfm};
 use raypool::measure::convergence::{Reference, log_log_fit, timed_render};
-use raypool::measure::machine::{Machine, results_dir};
+use raypool::measure::machine::{Machine, cpus, results_dir};
 use raypool::measure::plot::{LogSeries, log_log_plot};
 use raypool::measure::speedup::median;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
@@ -78,7 +78,7 @@ fn main() {
         Config { width: 160, reference_spp_each: 2048, max_spp: 256, min_spp: 16 }
     };
     let out_dir = results_dir();
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = cpus();
     let mut rows = Vec::new();
     let mut references = String::new();
     for name in SCENES {

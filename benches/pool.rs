@@ -9,7 +9,7 @@ use criterion::Criterion;
 use pool::{Discipline, ThreadPool};
 use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
-use raypool::measure::machine::{Machine, results_dir};
+use raypool::measure::machine::{Machine, cpus, results_dir};
 
 /// Empty jobs per batch in the overhead benchmark.
 const JOBS: usize = 100_000;
@@ -20,7 +20,7 @@ const UNEVEN_JOBS: usize = 10_000;
 const UNEVEN_RUNS: usize = 7;
 
 fn main() {
-    let workers = std::thread::available_parallelism().map_or(2, |n| n.get());
+    let workers = cpus();
     let mut criterion =
         Criterion::default().configure_from_args().sample_size(20).warm_up_time(Duration::from_secs(1));
     overhead(&mut criterion, workers);

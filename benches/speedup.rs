@@ -6,7 +6,8 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 use raypool::measure::machine::results_dir;
-use raypool::measure::speedup::{Contender, Preset, run, write_reports};
+use raypool::measure::speedup::report::write_reports;
+use raypool::measure::speedup::{Contender, Preset, run};
 use raypool::schedule::frame::Frame;
 use raypool::schedule::modes::Scheduler;
 use raypool::tracer::render::TileOutput;

@@ -9,8 +9,8 @@
 //! | [`scenes`] | scenes as data: the TOML [`scenes::format`] and the [`scenes::builtin`] scenes |
 //! | [`files`] | the frame buffer ([`files::image`]), the PNG/PPM/PFM writers ([`files::output`]) and the part files of sharded renders ([`files::part`]) |
 //! | [`schedule`] | who renders which tile: [`schedule::frame`] (a render in progress), the [`schedule::modes`], [`schedule::progressive`] passes and the [`schedule::conformance`] check |
-//! | [`measure`] | the [`measure::speedup`] benchmark, the [`measure::scaling`] model, error ([`measure::compare`], [`measure::convergence`]), [`measure::stress`] cases, [`measure::plot`]s, [`measure::machine`] labels, the course's [`measure::grade`]r |
-//! | [`cli`] | the `raypool` command |
+//! | [`measure`] | the [`measure::speedup`] benchmark, the [`measure::scaling`] model, error ([`measure::compare`], [`measure::convergence`]), [`measure::stress`] cases, [`measure::plot`]s, the [`measure::machine`] (CPUs, thread counts, labels), the course's [`measure::grade`]r |
+//! | [`cli`] | the `raypool` command: [`cli::args`] (its flags), [`cli::settings`] (what they resolve to), a file per command |
 //! | [`view`] | `raypool view`: the live viewer in the browser (its server, its render session, its page) |
 //!
 //! [`scenes`] and [`files`] sit side by side: neither uses the other.

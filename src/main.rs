@@ -5,7 +5,8 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use clap::error::ErrorKind;
-use raypool::cli::{Cli, Command, one_line, run};
+use raypool::cli::args::{Cli, Command, one_line};
+use raypool::cli::run;
 
 fn main() -> ExitCode {
     let cli = match Cli::try_parse() {

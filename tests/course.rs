@@ -6,7 +6,8 @@
 mod deadline;
 
 use deadline::within;
-use raypool::measure::grade::{Entry, Options, Submission, grade, points};
+use raypool::measure::grade::report::points;
+use raypool::measure::grade::{Entry, Options, Submission, grade};
 use raypool::schedule::conformance::check;
 use raypool::schedule::modes::Schedule;
 

@@ -1,7 +1,8 @@
 //! The source tree shows the architecture: `src/` holds the top-level files and one folder per
 //! layer, a module uses only its own folder and the layers below it, the tracer's rooms use
-//! only the rooms before them, no two modules of either crate import each other, directly or
-//! through others, and no source file grows past what a student reads in one sitting.
+//! only the rooms before them, the viewer uses only the command line's flags and settings (not
+//! its commands), no two modules of either crate import each other, directly or through
+//! others, and no source file grows past what a student reads in one sitting.
 //!
 //! Run it alone with `cargo test --release --test layers`. It reads `src/` and `pool/src/` as
 //! text: every `crate::a::b::…` path outside comments is an edge from the file that writes it
@@ -28,6 +29,10 @@ const LAYERS: &[(&str, u32)] = &[
 /// rooms before it, never one after it.
 const TRACER_ROOMS: &[&str] =
     &["math", "sampling", "geometry", "shading", "accel", "camera", "scene", "tile", "render"];
+
+/// The only modules of the command line that the viewer may reach, directly or through them:
+/// the flags and what they resolve to, never `cli` itself or a command's file.
+const CLI_FOR_THE_VIEWER: &[&str] = &["cli::args", "cli::settings"];
 
 /// The only files that may sit directly in `src/` (besides the layer folders).
 const TOP_FILES: &[&str] = &["lib.rs", "main.rs", "error.rs"];
@@ -174,6 +179,32 @@ fn tracer_rooms_use_only_the_rooms_before_them() {
     assert!(wrong.is_empty(), "a tracer room reaches a later one:\n{}", wrong.join("\n"));
 }
 
+/// The command line's modules that the viewer's modules use, directly or through other
+/// modules of the command line.
+fn cli_reached_from_view(all: &BTreeMap<String, String>) -> BTreeSet<String> {
+    let cli_uses = |module: &str| -> Vec<String> {
+        uses(module, &all[module], all).into_iter().filter(|target| layer(target) == "cli").collect()
+    };
+    let mut to_visit: Vec<String> =
+        all.keys().filter(|module| layer(module) == "view").flat_map(|module| cli_uses(module)).collect();
+    let mut reached = BTreeSet::new();
+    while let Some(module) = to_visit.pop() {
+        if reached.insert(module.clone()) {
+            to_visit.extend(cli_uses(&module));
+        }
+    }
+    reached
+}
+
+#[test]
+fn the_viewer_uses_only_the_flags_and_settings_of_the_command_line() {
+    let wrong: Vec<String> = cli_reached_from_view(&modules())
+        .into_iter()
+        .filter(|module| !CLI_FOR_THE_VIEWER.contains(&module.as_str()))
+        .collect();
+    assert!(wrong.is_empty(), "the viewer reaches {wrong:?}; it may use only {CLI_FOR_THE_VIEWER:?}");
+}
+
 /// A cycle in `graph` (module → the modules it uses), as the path that closes it, if any.
 fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<String> {
     // Depth-first search; a module met again while still on the stack closes a cycle.
@@ -220,7 +251,7 @@ fn no_source_file_is_longer_than_one_sitting() {
 }
 
 #[test]
-fn the_checker_sees_an_upward_import_a_later_room_and_a_cycle() {
+fn the_checker_sees_an_upward_import_a_later_room_a_viewer_reaching_the_command_line_and_a_cycle() {
     // The checks above pass only if they can fail: feed them a made-up tree.
     let mut all = BTreeMap::new();
     all.insert(
@@ -234,6 +265,12 @@ fn the_checker_sees_an_upward_import_a_later_room_and_a_cycle() {
     );
     all.insert("schedule::modes".to_owned(), String::new());
     all.insert("cli".to_owned(), String::new());
+    all.insert("cli::args".to_owned(), "use crate::cli::run;\n".to_owned());
+    all.insert("cli::settings".to_owned(), String::new());
+    all.insert(
+        "view::request".to_owned(),
+        "use crate::cli::args::ViewArgs;\nuse crate::cli::settings::load_scene;\n".to_owned(),
+    );
     assert_eq!(
         uses("tracer::math::ray", &all["tracer::math::ray"], &all),
         BTreeSet::from(["schedule::frame".to_owned()])
@@ -245,6 +282,11 @@ fn the_checker_sees_an_upward_import_a_later_room_and_a_cycle() {
         "the upward edge is seen as upward"
     );
     assert!(room("tracer::render") > room("tracer::math::ray"), "render is a later room than math");
+    assert_eq!(
+        cli_reached_from_view(&all),
+        BTreeSet::from(["cli".to_owned(), "cli::args".to_owned(), "cli::settings".to_owned()]),
+        "the viewer reaches the command line itself through cli::args"
+    );
     let graph = all.iter().map(|(m, text)| (m.clone(), uses(m, text, &all))).collect();
     assert_eq!(find_cycle(&graph).as_deref(), Some("schedule::frame → tracer::math::ray → schedule::frame"));
 }

@@ -108,7 +108,7 @@ fn simulate_prints_every_mode_and_writes_its_report() {
         assert!(table.lines().any(|l| l.starts_with(&format!("{mode} "))), "{mode} row in:\n{table}");
     }
     assert!(table.contains("mode \\ T") && table.contains("64"), "{table}");
-    if std::thread::available_parallelism().map_or(1, |n| n.get()) >= 2 {
+    if raypool::measure::machine::cpus() >= 2 {
         assert!(table.contains("steal          2 threads: predicted"), "{table}");
     }
     let md = std::fs::read_to_string(dir.join("scaling.md")).unwrap();

@@ -334,7 +334,7 @@ fn hostile_traffic_does_not_stop_the_server() {
     assert_eq!(report.failed_probes, 0, "GET /state failed during the traffic: {report:?}");
     assert!(report.slowest_probe < Duration::from_secs(5), "a probe took {:?}", report.slowest_probe);
     assert_eq!(report.streams_with_tiles, report.streams, "every event stream received tiles: {report:?}");
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get()) as u64;
+    let cores = raypool::measure::machine::cpus() as u64;
     // Connections (at most 256), the largest render's workers (4 per core), a few of its own.
     assert!(report.peak_threads <= 256 + 4 * cores + 8, "threads: {report:?}");
     assert!(report.peak_rss_kib < 1 << 20, "peak memory {} MiB", report.peak_rss_kib >> 10);

@@ -1,4 +1,6 @@
-//! Which machine, commit and day a measurement was made on: every committed figure says so.
+//! The machine a measurement runs on: how many CPUs this process may use (the one place
+//! that asks), the thread counts a measurement runs at by default, and which machine, commit
+//! and day a measurement was made on (every committed figure says so).
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -21,6 +23,45 @@ pub fn results_dir() -> PathBuf {
     let dir = std::env::var_os(RESULTS_ENV).map_or_else(|| PathBuf::from("results"), PathBuf::from);
     let _ = std::fs::create_dir_all(&dir);
     dir
+}
+
+/// The logical CPUs this process may use (`nproc`; 1 where the system cannot tell): the
+/// default worker count of a render and the top of a benchmark's thread counts.
+pub fn cpus() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get())
+}
+
+/// The thread counts a measurement runs at when none are given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sweep {
+    /// 1, 2, 3, … 2 × CPUs: every count, past the CPUs too (the speedup benchmark).
+    EveryCountToTwiceTheCpus,
+    /// 1, 2, 4, … the powers of two below the CPUs, and the CPUs (the grader).
+    DoublingsToTheCpus,
+}
+
+/// The thread counts to measure: `asked`, or `sweep` of this machine's CPUs when it is empty.
+///
+/// ```
+/// use raypool::measure::machine::{Sweep, thread_counts};
+/// assert_eq!(thread_counts(&[1, 4, 64], Sweep::DoublingsToTheCpus), vec![1, 4, 64]);
+/// assert_eq!(thread_counts(&[], Sweep::EveryCountToTwiceTheCpus)[0], 1);
+/// assert_eq!(thread_counts(&[], Sweep::DoublingsToTheCpus)[0], 1);
+/// ```
+pub fn thread_counts(asked: &[usize], sweep: Sweep) -> Vec<usize> {
+    if !asked.is_empty() {
+        return asked.to_vec();
+    }
+    let cpus = cpus();
+    match sweep {
+        Sweep::EveryCountToTwiceTheCpus => (1..=2 * cpus).collect(),
+        Sweep::DoublingsToTheCpus => {
+            let mut counts: Vec<usize> =
+                std::iter::successors(Some(1), |t| Some(t * 2)).take_while(|&t| t < cpus).collect();
+            counts.push(cpus);
+            counts
+        }
+    }
 }
 
 /// A description of where and when a benchmark ran.
@@ -54,7 +95,7 @@ impl Machine {
         let status = ["status", "--porcelain", "--untracked-files=no", "--", ".", ":!results"];
         let dirty = command("git", &status).is_some_and(|s| !s.is_empty());
         Machine {
-            cpus: std::thread::available_parallelism().map_or(1, |n| n.get()),
+            cpus: cpus(),
             cpu_model,
             date: command("date", &["-u", "+%Y-%m-%d"]).unwrap_or_else(|| "unknown".into()),
             commit: if dirty { format!("{commit}+dirty") } else { commit },

@@ -4,10 +4,17 @@
 //! Drawn with plotters into an in-memory RGB buffer and encoded with the `image` crate, with
 //! a font compiled into the binary (Ubuntu Light, from `epaint_default_fonts`), so plots need
 //! no system font library on a fresh machine.
+//!
+//! Every plot is made of the same pieces: `draw` (the white canvas, the footer, the PNG),
+//! `chart` and `mesh` (the title, margins and axes), `line` (a series and its legend entry),
+//! `colour` (the series' palette) and `legend` (the framed box).
 
 use std::path::Path;
 use std::sync::Once;
 
+use plotters::chart::MeshStyle;
+use plotters::coord::Shift;
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
@@ -31,32 +38,15 @@ pub fn speedup_plot(path: &Path, title: &str, footer: &str, series: &[Series]) -
     let max_speedup =
         series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).fold(max_threads as f64, f64::max);
     draw(path, footer, |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, ("sans-serif", 24))
-            .margin(16)
-            .x_label_area_size(44)
-            .y_label_area_size(56)
-            .build_cartesian_2d(0.5f64..max_threads as f64 + 0.5, 0f64..max_speedup * 1.05)?;
-        chart
-            .configure_mesh()
-            .x_desc("threads")
-            .y_desc("speedup over serial")
-            .label_style(("sans-serif", 16))
-            .draw()?;
-        chart
-            .draw_series(LineSeries::new(
-                [(1.0, 1.0), (max_threads as f64, max_threads as f64)],
-                BLACK.stroke_width(1),
-            ))?
-            .label("ideal")
-            .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK));
+        let x = 0.5f64..max_threads as f64 + 0.5;
+        let mut chart = chart(root, (title, 24), 56, x, 0f64..max_speedup * 1.05)?;
+        mesh(&mut chart, "threads", "speedup over serial").draw()?;
+        let ideal = [(1.0, 1.0), (max_threads as f64, max_threads as f64)];
+        line(&mut chart, ideal, BLACK.stroke_width(1), "ideal")?;
         for (k, s) in series.iter().enumerate() {
-            let colour = Palette99::pick(k).to_rgba();
+            let colour = colour(k);
             let points: Vec<(f64, f64)> = s.points.iter().map(|&(t, v)| (t as f64, v)).collect();
-            chart
-                .draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))?
-                .label(s.label.as_str())
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2)));
+            line(&mut chart, points.clone(), colour.stroke_width(2), &s.label)?;
             chart.draw_series(points.into_iter().map(|p| Circle::new(p, 4, colour.filled())))?;
         }
         legend(&mut chart, SeriesLabelPosition::UpperLeft, 16)
@@ -84,29 +74,16 @@ pub fn efficiency_plot(path: &Path, title: &str, footer: &str, lines: &[ModelLin
     let max_threads = all.iter().map(|p| p.0).fold(2.0, f64::max);
     let top = all.iter().map(|p| p.1).fold(1.0, f64::max) * 1.1;
     draw(path, footer, |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, ("sans-serif", 22))
-            .margin(16)
-            .x_label_area_size(44)
-            .y_label_area_size(60)
-            .build_cartesian_2d((0.9f64..max_threads * 1.1).log_scale(), 0f64..top)?;
-        chart
-            .configure_mesh()
-            .x_desc("threads")
-            .y_desc("efficiency = speedup ÷ threads")
-            .label_style(("sans-serif", 16))
-            .draw()?;
-        for (k, line) in lines.iter().enumerate() {
-            let colour = Palette99::pick(k).to_rgba();
-            chart
-                .draw_series(LineSeries::new(points(&line.predicted), colour.stroke_width(2)))?
-                .label(line.label.as_str())
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2)));
+        let mut chart = chart(root, (title, 22), 60, (0.9f64..max_threads * 1.1).log_scale(), 0f64..top)?;
+        mesh(&mut chart, "threads", "efficiency = speedup ÷ threads").draw()?;
+        for (k, model) in lines.iter().enumerate() {
+            let colour = colour(k);
+            line(&mut chart, points(&model.predicted), colour.stroke_width(2), &model.label)?;
             chart.draw_series(
-                points(&line.predicted).into_iter().map(|p| Circle::new(p, 3, colour.filled())),
+                points(&model.predicted).into_iter().map(|p| Circle::new(p, 3, colour.filled())),
             )?;
             chart.draw_series(
-                points(&line.measured).into_iter().map(|p| TriangleMarker::new(p, 7, colour.filled())),
+                points(&model.measured).into_iter().map(|p| TriangleMarker::new(p, 7, colour.filled())),
             )?;
         }
         legend(&mut chart, SeriesLabelPosition::LowerLeft, 16)
@@ -117,23 +94,14 @@ pub fn efficiency_plot(path: &Path, title: &str, footer: &str, lines: &[ModelLin
 pub fn timeline_plot(path: &Path, title: &str, footer: &str, lanes: &[Vec<(f64, f64)>]) -> Result<(), Error> {
     let end = lanes.iter().flatten().map(|s| s.1).fold(0.0, f64::max).max(1e-6);
     draw(path, footer, |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, ("sans-serif", 22))
-            .margin(16)
-            .x_label_area_size(44)
-            .y_label_area_size(70)
-            .build_cartesian_2d(0f64..end * 1.02, -0.5f64..lanes.len() as f64 - 0.5)?;
-        chart
-            .configure_mesh()
-            .x_desc("seconds since the render started")
-            .y_desc("thread")
+        let mut chart = chart(root, (title, 22), 70, 0f64..end * 1.02, -0.5f64..lanes.len() as f64 - 0.5)?;
+        mesh(&mut chart, "seconds since the render started", "thread")
             .y_labels(lanes.len().min(32))
             .y_label_formatter(&|y| format!("{}", y.round() as i64))
-            .label_style(("sans-serif", 16))
             .disable_y_mesh()
             .draw()?;
         for (lane, spans) in lanes.iter().enumerate() {
-            let colour = Palette99::pick(lane).to_rgba();
+            let colour = colour(lane);
             let y = lane as f64;
             chart.draw_series(spans.iter().enumerate().map(|(k, &(s, e))| {
                 // Alternate shades so neighbouring tiles stay distinguishable.
@@ -172,26 +140,16 @@ pub fn log_log_plot(
         return Err(Error::new(format!("plot {}: nothing to draw", path.display())));
     }
     draw(path, footer, |root| {
-        let mut chart = ChartBuilder::on(root)
-            .caption(title, ("sans-serif", 22))
-            .margin(16)
-            .x_label_area_size(44)
-            .y_label_area_size(70)
-            .build_cartesian_2d((x_lo / 1.2..x_hi * 1.2).log_scale(), (y_lo / 1.2..y_hi * 1.2).log_scale())?;
-        chart.configure_mesh().x_desc(x_desc).y_desc(y_desc).label_style(("sans-serif", 16)).draw()?;
+        let (x, y) = ((x_lo / 1.2..x_hi * 1.2).log_scale(), (y_lo / 1.2..y_hi * 1.2).log_scale());
+        let mut chart = chart(root, (title, 22), 70, x, y)?;
+        mesh(&mut chart, x_desc, y_desc).draw()?;
         if let Some(&(x0, y0)) = series.first().and_then(|s| s.points.first()) {
-            let line = [(x0, y0), (x_hi, y0 * (x_hi / x0).powf(reference_slope))];
-            chart
-                .draw_series(LineSeries::new(line, BLACK.stroke_width(1)))?
-                .label(format!("slope {reference_slope}"))
-                .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK));
+            let reference = [(x0, y0), (x_hi, y0 * (x_hi / x0).powf(reference_slope))];
+            line(&mut chart, reference, BLACK.stroke_width(1), &format!("slope {reference_slope}"))?;
         }
         for (k, s) in series.iter().enumerate() {
-            let colour = Palette99::pick(k).to_rgba();
-            chart
-                .draw_series(LineSeries::new(s.points.clone(), colour.stroke_width(2)))?
-                .label(s.label.as_str())
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2)));
+            let colour = colour(k);
+            line(&mut chart, s.points.clone(), colour.stroke_width(2), &s.label)?;
             if s.triangles {
                 chart.draw_series(s.points.iter().map(|&p| TriangleMarker::new(p, 5, colour.filled())))?;
             } else {
@@ -203,6 +161,66 @@ pub fn log_log_plot(
 }
 
 type DrawResult = Result<(), Box<dyn std::error::Error>>;
+
+/// The area a plot draws its chart on (all but the footer).
+type Area<'b> = DrawingArea<BitMapBackend<'b>, Shift>;
+
+/// A chart on an [`Area`] with axes of coordinates `X` and `Y`.
+type Chart<'a, 'b, X, Y> = ChartContext<'a, BitMapBackend<'b>, Cartesian2d<X, Y>>;
+
+/// An axis of numbers, linear or logarithmic, that plotters can number.
+trait Axis: Ranged<ValueType = f64> + ValueFormatter<f64> {}
+impl<A: Ranged<ValueType = f64> + ValueFormatter<f64>> Axis for A {}
+
+/// Every plot's chart: `title` above (in a font of the given size), a margin, room for the
+/// numbers of the horizontal axis and `y_label_width` pixels for those of the vertical one,
+/// over the ranges `x` and `y`.
+fn chart<'a, 'b, X: AsRangedCoord, Y: AsRangedCoord>(
+    area: &'a Area<'b>,
+    (title, title_size): (&str, u32),
+    y_label_width: u32,
+    x: X,
+    y: Y,
+) -> Result<Chart<'a, 'b, X::CoordDescType, Y::CoordDescType>, Box<dyn std::error::Error>> {
+    let chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", title_size))
+        .margin(16)
+        .x_label_area_size(44)
+        .y_label_area_size(y_label_width)
+        .build_cartesian_2d(x, y)?;
+    Ok(chart)
+}
+
+/// `chart`'s grid and axes, described by `x_desc` and `y_desc`, numbered in every plot's
+/// font; more settings may follow before it is drawn.
+fn mesh<'a, 'b, 'c, X: Axis, Y: Axis>(
+    chart: &'c mut Chart<'a, 'b, X, Y>,
+    x_desc: &str,
+    y_desc: &str,
+) -> MeshStyle<'a, 'c, X, Y, BitMapBackend<'b>> {
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(x_desc).y_desc(y_desc).label_style(("sans-serif", 16));
+    mesh
+}
+
+/// Draws `points` as a line in `style`, named `label` in the legend by a short stroke of it.
+fn line<X: Axis, Y: Axis>(
+    chart: &mut Chart<'_, '_, X, Y>,
+    points: impl IntoIterator<Item = (f64, f64)>,
+    style: ShapeStyle,
+    label: &str,
+) -> DrawResult {
+    chart
+        .draw_series(LineSeries::new(points, style))?
+        .label(label)
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
+    Ok(())
+}
+
+/// The colour of the `k`-th series of a plot.
+fn colour(k: usize) -> RGBAColor {
+    Palette99::pick(k).to_rgba()
+}
 
 /// The series' legend in a framed, nearly opaque box.
 fn legend<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
@@ -225,11 +243,7 @@ where
 
 /// Draws on a white canvas, with `footer` in small print at the bottom, and writes it as a
 /// PNG (atomically).
-fn draw(
-    path: &Path,
-    footer: &str,
-    paint: impl FnOnce(&DrawingArea<BitMapBackend, plotters::coord::Shift>) -> DrawResult,
-) -> Result<(), Error> {
+fn draw(path: &Path, footer: &str, paint: impl FnOnce(&Area) -> DrawResult) -> Result<(), Error> {
     static FONT: Once = Once::new();
     FONT.call_once(|| {
         plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT)

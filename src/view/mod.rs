@@ -2,12 +2,15 @@
 //! live, each tile drawn the moment a worker finishes it and outlined in that worker's colour,
 //! with a timeline of one lane per worker; the page's controls and camera restart the render.
 //!
-//! This is the top layer: it uses [`crate::cli`] (a request is checked by the command line's
-//! own flag definitions), [`crate::schedule`] (the passes run on our schedulers and pools, never
-//! on the server's threads), [`crate::files`] and [`crate::scenes`]. Nothing uses it but
-//! `main.rs`. [`session`] owns the one render at a time, [`request`] turns a request into a
-//! checked render, [`http`] reads requests under caps and deadlines, [`server`] answers them to
-//! the page's own origin only, and `page.html` is the page.
+//! This is the top layer: of the command line it uses only the flags and what they resolve
+//! to ([`crate::cli::args`], [`crate::cli::settings`]: a request is checked by the command
+//! line's own flag definitions and rules), never a command; it also uses [`crate::schedule`]
+//! (the passes run on our schedulers and pools, never on the server's threads),
+//! [`crate::measure::machine`] (the CPUs, for its thread limit), [`crate::files`] and
+//! [`crate::scenes`]. Nothing uses it but `main.rs`. [`session`] owns the one render at a
+//! time, [`request`] turns a request into a checked render, [`http`] reads requests under caps
+//! and deadlines, [`server`] answers them to the page's own origin only, and `page.html` is
+//! the page.
 
 pub mod http;
 pub mod request;
@@ -20,7 +23,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
-use crate::cli::ViewArgs;
+use crate::cli::args::ViewArgs;
 use crate::error::Error;
 use crate::view::http::Response;
 use crate::view::server::Origins;

@@ -10,10 +10,11 @@
 
 use clap::Parser;
 
-use crate::cli::{ViewArgs, default_threads, load_scene, one_line, render_settings};
+use crate::cli::args::{ViewArgs, one_line};
+use crate::cli::settings::{load_scene, render_job, render_settings, scene_name, worker_threads};
 use crate::error::Error;
+use crate::measure::machine::cpus;
 use crate::scenes::format::SceneFile;
-use crate::tracer::render::RenderJob;
 use crate::view::session::Config;
 
 /// Largest pasted scene, bytes.
@@ -30,7 +31,7 @@ pub const MAX_TILE: u32 = 64;
 /// The most worker threads a viewer render may use: four per core this machine offers (past
 /// one per core a render only waits; the margin shows it). Requests for more get a 400.
 pub fn max_threads() -> usize {
-    4 * default_threads()
+    4 * cpus()
 }
 
 /// What `raypool view`'s flags parse into, for parsing a request the same way.
@@ -79,10 +80,9 @@ pub fn parse(query: &str, body: &str) -> Result<Config, Error> {
 /// The render `args` ask for, of the pasted scene if any, seen from `lookfrom` if given.
 pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>) -> Result<Config, Error> {
     let image = &args.image;
-    let (name, mut scene) = match (pasted, &image.scene_file) {
-        (Some(text), _) => ("pasted scene".to_string(), SceneFile::parse(text, "pasted scene")?),
-        (None, Some(path)) => (path.display().to_string(), load_scene(image)?),
-        (None, None) => (image.scene.clone(), load_scene(image)?),
+    let (name, mut scene) = match pasted {
+        Some(text) => ("pasted scene".to_string(), SceneFile::parse(text, "pasted scene")?),
+        None => (scene_name(image), load_scene(image)?),
     };
     if let Some(eye) = lookfrom {
         move_camera(&mut scene, eye)?;
@@ -91,7 +91,7 @@ pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>)
     if settings.adaptive.is_some() {
         return Err(Error::new("the viewer renders progressive passes, not adaptive sampling"));
     }
-    let threads = args.workers.threads.map_or_else(default_threads, |t| t as usize);
+    let threads = worker_threads(&args.workers);
     if threads > max_threads() {
         return Err(Error::new(format!(
             "--threads {threads} is more than the viewer's limit of {} (four per core here)",
@@ -115,7 +115,7 @@ pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>)
     }
     Ok(Config {
         name,
-        job: RenderJob::new(image.accel.apply(scene.to_scene()), settings).into(),
+        job: render_job(image, &scene, settings).into(),
         scene,
         threads,
         mode: args.workers.mode,

@@ -262,7 +262,7 @@ fn exchange_slowly(address: &str) -> String {
 /// Restarts with the largest render the viewer accepts, in every mode, each after the one
 /// before has run for 300 ms; returns each restart's `POST` → 202 time.
 fn worst_cancels(viewer: &Viewer) -> Vec<(String, Duration)> {
-    let threads = 4 * std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = raypool::view::request::max_threads();
     let mut cancels = Vec::new();
     for mode in ["steal", "pool", "static", "interleaved", "pool-rows", "serial"] {
         for scene in ["final", "paper3"] {

@@ -5,7 +5,7 @@
 //! hang a later pool's drop, so it never gets that far; each part of the contract runs under
 //! a deadline.
 
-use raypool::measure::grade::OnQueue;
+use raypool::measure::grade::on_queue::OnQueue;
 use raypool::schedule::conformance::check;
 use raypool_course::discipline::make;
 

@@ -1,0 +1,28 @@
+//! `raypool grade`: a built-in mode or queue discipline graded as a course's grader grades a
+//! student's (`crate::measure::grade`).
+
+use crate::cli::args::GradeArgs;
+use crate::error::Error;
+use crate::measure::grade::{Entry, Submission, grade_and_report};
+
+/// Runs `raypool grade`.
+pub fn run(args: &GradeArgs) -> Result<(), Error> {
+    let submission = match (&args.mode, args.discipline.as_deref()) {
+        (Some(mode), _) => {
+            Submission { name: format!("mode {}", mode.name()), entry: Entry::Scheduler(mode) }
+        }
+        (None, Some(name)) => {
+            let discipline = match name {
+                "locked" => pool::Discipline::Locked,
+                "stealing" => pool::Discipline::Stealing,
+                _ => pool::Discipline::Shared,
+            };
+            Submission { name: format!("discipline {name}"), entry: Entry::Queue(discipline.queue()) }
+        }
+        (None, None) => {
+            return Err(Error::new("raypool grade: name a submission: --mode or --discipline"));
+        }
+    };
+    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    grade_and_report(&[&submission], &args.options, &command)
+}
