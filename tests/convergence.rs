@@ -9,18 +9,24 @@ use raypool::scenes::builtin::builtin_scene;
 use raypool::tracer::render::RenderSettings;
 use raypool::tracer::sampling::sampler::Sampler;
 
+/// The settings both tests render three-spheres at: small, and independent numbers, whose
+/// error falls as spp^-0.5.
+fn independent_48_by_32() -> RenderSettings {
+    RenderSettings {
+        width: 48,
+        height: 32,
+        max_depth: 50,
+        seed: 1,
+        sampler: Sampler::Independent,
+        ..Default::default()
+    }
+}
+
 #[test]
 fn error_falls_as_one_over_root_spp_on_three_spheres() {
     within("the reference and the renders of three-spheres to finish", move || {
         let scene = builtin_scene("three-spheres", 0).unwrap().to_scene();
-        let base = RenderSettings {
-            width: 48,
-            height: 32,
-            max_depth: 50,
-            seed: 1,
-            sampler: Sampler::Independent,
-            ..Default::default()
-        };
+        let base = independent_48_by_32();
         let reference = Reference::render(&scene, base, 1024, 2);
         assert!(reference.noise > 0.0, "two independent halves differ");
         let points: Vec<(f64, f64)> = [1, 2, 4, 8, 16, 32, 64]
@@ -41,14 +47,7 @@ fn a_biased_render_is_caught_by_the_slope() {
         // Depth 2 against a depth-50 reference: the error stops falling at the bias, so the
         // slope flattens far beyond the tolerance. This is what the check is for.
         let scene = builtin_scene("three-spheres", 0).unwrap().to_scene();
-        let base = RenderSettings {
-            width: 48,
-            height: 32,
-            max_depth: 50,
-            seed: 1,
-            sampler: Sampler::Independent,
-            ..Default::default()
-        };
+        let base = independent_48_by_32();
         let reference = Reference::render(&scene, base, 512, 2);
         let points: Vec<(f64, f64)> = [1, 4, 16, 64]
             .iter()

@@ -1,7 +1,7 @@
 //! Owen-scrambled Sobol streams (`--sampler sobol`, the default): a pixel's samples fill each
 //! 4-dimensional use of random numbers evenly instead of by chance. The sequence is the
 //! `sobol_burley` crate's, after Burley's "Practical Hash-based Owen Scrambling"; how its points
-//! are made two sets at a time is [`super::sobol_table`]'s business, how a sample's draws walk
+//! are made two sets at a time is `sobol_table.rs`'s business, how a sample's draws walk
 //! through them is this file's.
 
 use std::cell::Cell;
