@@ -1,16 +1,16 @@
 //! raypool: the ray tracer of *Ray Tracing in One Weekend*, written to study parallelism.
 //!
-//! The folders are the layers, each using only those above it in this table (and
-//! [`error`], which every layer may use); `cargo test --test layers` checks it.
+//! The folders are the layers, lowest first: each uses only the layers listed before it in
+//! this table (and [`error`], which every layer may use); `cargo test --test layers` checks it.
 //!
 //! | layer | what it holds |
 //! |---|---|
 //! | [`tracer`] | the book's tracer, in rooms: [`tracer::math`] (numbers, rays), [`tracer::sampling`] (random numbers), [`tracer::geometry`] (shapes, hits), [`tracer::shading`] (materials, background), [`tracer::accel`] (the trees), [`tracer::scene`], [`tracer::camera`], [`tracer::tile`], and [`tracer::render`], the one render loop |
 //! | [`scenes`] | scenes as data: the TOML [`scenes::format`] and the [`scenes::builtin`] scenes |
-//! | [`files`] | the frame buffer ([`files::image`]), the PNG/PPM/PFM writers ([`files::output`]) and the part files of sharded renders ([`files::part`]) |
-//! | [`schedule`] | who renders which tile: [`schedule::frame`] (a render in progress), the [`schedule::modes`], [`schedule::progressive`] passes and the [`schedule::conformance`] check |
+//! | [`files`] | the frame buffer ([`files::image`]), the PNG/PPM/PFM/EXR writers ([`files::output`]) and the part files of sharded renders ([`files::part`]) |
+//! | [`schedule`] | who renders which tile: [`schedule::random`] (where the random numbers come from), [`schedule::progressive`] passes, [`schedule::frame`] (a render in progress), [`schedule::adaptive`] sampling's passes, the [`schedule::modes`] and the [`schedule::conformance`] check |
 //! | [`measure`] | the [`measure::speedup`] benchmark, the [`measure::scaling`] model, error ([`measure::compare`], [`measure::convergence`]), [`measure::stress`] cases, [`measure::plot`]s, the [`measure::machine`] (CPUs, thread counts, labels), the course's [`measure::grade`]r |
-//! | [`cli`] | the `raypool` command: [`cli::args`] (its flags), [`cli::settings`] (what they resolve to), a file per command |
+//! | [`cli`] | the `raypool` command: [`cli::args`] (its flags), [`cli::settings`] (what they resolve to), a file per command, [`cli::interrupt`] (Ctrl-C) and [`cli::memory`] (will it fit?) |
 //! | [`view`] | `raypool view`: the live viewer in the browser (its server, its render session, its page) |
 //!
 //! [`scenes`] and [`files`] sit side by side: neither uses the other.

@@ -143,8 +143,24 @@ fn every_folder_opens_with_its_idea() {
         assert!(opening.starts_with("//! **"), "{module}'s mod.rs must open with its idea in bold");
     }
     let tracer = std::fs::read_to_string(root("src/tracer/mod.rs")).unwrap();
-    for room in TRACER_ROOMS {
-        assert!(tracer.contains(&format!("pub mod {room};")), "src/tracer/mod.rs does not declare '{room}'");
+    let declared: Vec<&str> =
+        tracer.lines().filter_map(|l| l.strip_prefix("pub mod")?.trim().strip_suffix(';')).collect();
+    assert_eq!(declared, TRACER_ROOMS, "src/tracer/mod.rs must declare the rooms in their reading order");
+}
+
+#[test]
+fn every_file_opens_with_its_idea() {
+    for crate_src in ["src", "pool/src"] {
+        let mut paths = BTreeMap::new();
+        files(&root(crate_src), &[], &mut paths);
+        for path in paths.values().chain([&root(crate_src).join("lib.rs")]) {
+            let text = std::fs::read_to_string(path).unwrap();
+            assert!(
+                text.starts_with("//! "),
+                "{} must open with a //! paragraph saying its idea",
+                path.display()
+            );
+        }
     }
 }
 

@@ -1,5 +1,6 @@
-//! The command line's flags: clap's definition of every subcommand and its options, the
-//! choices they offer, and clap's errors as one line. Only the definition lives here; what a
+//! The command line's flags: clap's definition of every subcommand and its options (except the
+//! grader's, `crate::measure::grade::Options`, flattened in here because the course kit's own
+//! grade binary parses them too), the choices they offer, and clap's errors as one line. Only the definition lives here; what a
 //! set of flags resolves to is in [`crate::cli::settings`]. The viewer parses each request with
 //! these same definitions (`src/view/request.rs`), so a request gets the command line's limits
 //! and messages.

@@ -6,7 +6,10 @@
 //! [`args`] holds the flags (clap's definition), [`settings`] what they resolve to (the scene,
 //! the render settings, the threads), and each command has a file of its own (`render.rs`,
 //! `merge.rs`, `simulate.rs`, `scenes.rs` for `scenes` and `scene`, `bench.rs`, `grade.rs`,
-//! `compare.rs`); [`run`] only dispatches. The viewer uses [`args`] and [`settings`] alone.
+//! `compare.rs`); [`run`] only dispatches.
+//!
+//! It may use every layer below it. `main.rs` calls [`run`]; the viewer, the one layer above,
+//! uses [`args`] and [`settings`] alone (`tests/layers.rs` checks it).
 
 pub mod args;
 pub mod settings;

@@ -5,7 +5,7 @@
 //!
 //! It may use [`crate::tracer`] (pixels are [`crate::tracer::math::real::Vec3`], tiles arrive as
 //! [`crate::tracer::render::TileOutput`]) and [`crate::error`], nothing above. The schedulers
-//! assemble images with it; the measurements and the command line read and write files with it.
+//! assemble images with it; the measurements, the command line and the viewer read and write files with it.
 
 pub mod image;
 pub mod output;

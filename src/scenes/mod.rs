@@ -4,7 +4,7 @@
 //!
 //! It may use [`crate::tracer`] (a [`format::SceneFile`] becomes a render-ready
 //! [`crate::tracer::scene::Scene`]) and [`crate::error`], nothing above. It is used by the
-//! schedulers' conformance check, the measurements and the command line.
+//! schedulers' conformance check, the measurements, the command line and the viewer.
 
 pub mod format;
 pub mod builtin;

@@ -2,7 +2,7 @@
 //! come from (per-sample streams, or the seed paper's generator shared behind a lock); a
 //! [`frame::Frame`] is a render in progress and the only way to render a tile; [`modes`] holds
 //! the [`modes::Scheduler`] trait and the six built-in ways to share a frame's tiles among
-//! threads (static blocks, interleaved rows, the two pools, stealing); [`progressive`] refines
+//! threads (serial, static blocks, interleaved rows, the two pools, stealing); [`progressive`] refines
 //! an image pass after pass, cancellably, on any of them, and [`adaptive`] spends those passes
 //! where the image is still noisy; [`conformance`] is the check a student's scheduler must pass.
 //!
@@ -11,8 +11,8 @@
 //! scene), the `pool` crate and [`crate::error`]. The measurements and the command line use it.
 
 pub mod random;
-pub mod frame;
-pub mod modes;
 pub mod progressive;
+pub mod frame;
 pub mod adaptive;
+pub mod modes;
 pub mod conformance;

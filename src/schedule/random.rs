@@ -15,7 +15,9 @@ use crate::tracer::sampling::independent::PerSample;
 use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, SampleRng, Sampler};
 use crate::tracer::sampling::sobol::SobolStreams;
 
-/// Per-sample streams or one shared generator (`--rng`).
+/// Per-sample streams or one shared generator (`--rng`). `PerSample` here means "a stream per
+/// pixel sample, of whichever sampler the settings name" (Sobol by default), not the
+/// independent [`PerSample`] streams alone.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
 pub enum RngChoice {
     /// One stream per pixel sample, seeded from (seed, pixel, sample): reproducible.

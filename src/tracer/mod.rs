@@ -12,10 +12,11 @@
 //! | [`tile`] | how an image is cut into tiles, and tiles into shards |
 //! | [`render`] | the one render loop that turns a tile of pixels into colours |
 //!
-//! A room uses only rooms above it in this table (`tests/layers.rs` checks it), so a new
-//! shape, texture or light lands in its own room without reaching up.
+//! A room uses only the rooms listed before it in this table (`tests/layers.rs` checks it, and
+//! that they are declared in this order), so a new shape, texture or light lands in its own
+//! room without reaching into a later one.
 //!
-//! This is the bottom layer. It may use only itself, [`crate::error`] and outside crates; it
+//! This is the lowest layer. It may use only itself, [`crate::error`] and outside crates; it
 //! knows nothing of files, scene formats, threads or measurement. Everything above uses it:
 //! [`crate::scenes`] builds a [`scene::Scene`], [`crate::schedule`] calls
 //! [`render::render_tile`] on many threads, [`crate::files`] stores its [`render::TileOutput`]s.

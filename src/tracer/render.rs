@@ -1,4 +1,5 @@
-//! The one render loop: [`render_tile`] traces every sample of every pixel of a [`Tile`].
+//! The one render loop: [`render_tile`] traces every sample of every pixel of a [`Tile`]. (The
+//! `raypool render` command is `src/cli/render.rs`, which schedules calls of this loop.)
 //!
 //! Every scheduler (serial, static split, pools…) only decides which thread calls
 //! `render_tile` on which tile; none of them has a render loop of its own. Because a pixel's

@@ -40,14 +40,14 @@ const WIDE_LEAF: usize = 4;
 pub enum Accel {
     /// Test every sphere, one by one.
     Flat,
-    /// The binary SAH tree of `bvh.rs`: the default from [`BVH_MIN_SPHERES`] to
+    /// The binary SAH tree of `accel/bvh.rs`: the default from [`BVH_MIN_SPHERES`] to
     /// [`WIDE_MIN_SPHERES`] spheres.
     Binary,
-    /// The four-wide tree of `wide.rs`, leaves of up to four spheres tested one by one: the
+    /// The four-wide tree of `accel/wide.rs`, leaves of up to four spheres tested one by one: the
     /// default for scenes of [`WIDE_MIN_SPHERES`] or more.
     Wide,
     /// The four-wide tree, each leaf's spheres tested together in the lanes of one SIMD
-    /// register (`packet.rs`).
+    /// register (`accel/packet.rs`).
     WidePackets,
     /// The four-wide tree with the huge spheres (the ground) kept out of it and tested
     /// directly for every ray.

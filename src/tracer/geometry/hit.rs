@@ -66,7 +66,7 @@ impl Closest {
 
 impl Hit {
     /// A new ray leaving this hit in the unit direction `dir` (a scattered direction is
-    /// one: `material.rs`), started off the surface on the side `dir` points to (outwards
+    /// one: `shading/material.rs`), started off the surface on the side `dir` points to (outwards
     /// for reflection, inwards for refraction).
     #[inline]
     pub fn spawn(&self, dir: Vec3) -> Ray {

@@ -1,7 +1,8 @@
 //! A ray: `origin + t · dir`, with `dir` always of unit length.
 //!
 //! Keeping directions normalised makes `t` a distance, lets the sphere test drop the `a`
-//! coefficient of the quadratic, and keeps the stable form of that test exact (see `sphere.rs`).
+//! coefficient of the quadratic, and keeps the stable form of that test exact (see
+//! `geometry/sphere.rs`).
 
 use crate::tracer::math::real::{Real, Vec3};
 

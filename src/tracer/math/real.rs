@@ -3,7 +3,8 @@
 //! Everything numeric in the renderer is written against [`Real`] and [`Vec3`], so one cargo
 //! feature (`f64`) switches the whole tracer between single and double precision for accuracy
 //! comparisons. f32 is the default: it is twice as dense in cache and SIMD registers, and the
-//! robust intersection code (see `sphere.rs`) makes it accurate enough for every built-in scene.
+//! robust intersection code (see `geometry/sphere.rs`) makes it accurate enough for every
+//! built-in scene.
 
 #[cfg(not(feature = "f64"))]
 mod precision {
