@@ -97,6 +97,7 @@ VERDICTS = [
     ("replace > with >= in Sleep::anyone_asleep", "**equivalent**: the same, as a comparison that is always true"),
     ("replace + with * in StealQueue::steal_from_others", "**equivalent**: a thief then starts at its own index, which the next line filters out, so it visits the same victims in the same order"),
     ("replace > with >= in idle_workers_sleep", "**equivalent** in practice: CPU time comes in 10 ms ticks; a sleeping pool reads 0, a spinning one hundreds of ms"),
+    ("replace check -> Result<(), String> with Ok(())", "**caught since** by `the_check_with_its_own_deadline_refuses_a_broken_queue_too` (`pool/tests/conformance.rs`, added after the 2026-12-03 run: no test called `check` itself on a broken queue; checked by planting this mutant by hand)"),
     ("sync.rs", "the loom wrappers: a normal build does not compile them; see the loom run"),
 ]
 def verdict(m):

@@ -9,7 +9,9 @@
 //! - batches nested inside jobs return, even on one worker (the waiting rule of `batch.rs`
 //!   needs `try_pop` to hand a waiting worker the queued jobs);
 //! - dropping a pool runs every job still queued;
-//! - idle workers sleep: a pool with nothing to do uses (almost) no CPU time.
+//! - idle workers sleep: a pool with nothing to do uses (almost) no CPU time, and is not even
+//!   scheduled (a spinning worker on a machine busy with other work gets little CPU time, but
+//!   is switched in and out every few milliseconds: load can hide one sign, not both).
 //!
 //! A deadline missed is reported as an error naming what never happened ([`crate::deadline`]). The stuck threads
 //! cannot be stopped from outside and are left behind: a failed check is the end of a run.
@@ -169,8 +171,9 @@ fn drop_runs_queued(make: MakeQueue) -> Result<(), String> {
     }
 }
 
-/// Four idle workers for 200 ms use (almost) no CPU time: measured per worker thread, from
-/// `/proc`, so that other threads of the process do not count. On Linux a `/proc` that cannot
+/// Four idle workers for 200 ms use (almost) no CPU time and are (almost) never switched in
+/// and out: measured per worker thread, from `/proc`, so that other threads of the process do
+/// not count. On Linux a `/proc` that cannot
 /// be read fails the check (a check that cannot look must not pass); on other systems this
 /// part is skipped, and says so on stderr.
 fn idle_workers_sleep(make: MakeQueue) -> Result<(), String> {
@@ -196,13 +199,29 @@ fn idle_workers_sleep(make: MakeQueue) -> Result<(), String> {
         return unreadable("the workers' thread ids (/proc/thread-self/stat)");
     };
     let cpu = || tids.iter().map(|&tid| thread_cpu_time(tid)).sum::<Option<Duration>>();
-    let (before, wall) = (cpu(), Instant::now());
+    let switches = || tids.iter().map(|&tid| thread_switches(tid)).sum::<Option<u64>>();
+    let (before, switched_before, wall) = (cpu(), switches(), Instant::now());
     std::thread::sleep(Duration::from_millis(200));
-    let (after, wall) = (cpu(), wall.elapsed());
+    let (after, switched_after, wall) = (cpu(), switches(), wall.elapsed());
     let (Some(before), Some(after)) = (before, after) else {
         return unreadable("the workers' CPU times (/proc/self/task/TID/stat)");
     };
+    let (Some(switched_before), Some(switched_after)) = (switched_before, switched_after) else {
+        return unreadable("the workers' context switches (/proc/self/task/TID/status)");
+    };
     let used = after.saturating_sub(before);
+    let switched = switched_after.saturating_sub(switched_before);
+    // A sleeping worker is not scheduled at all; one still on its way to sleep as the window
+    // opens is switched out once. A spinner shares the cores with whatever else runs and is
+    // switched out every few milliseconds: dozens of times in 200 ms.
+    if switched > MAX_IDLE_SWITCHES {
+        return Err(format!(
+            "4 idle workers were switched in and out {switched} times in {} ms (using {} ms of CPU): \
+             a worker with nothing to do must sleep (wait on a condition variable or a channel), not spin",
+            wall.as_millis(),
+            used.as_millis()
+        ));
+    }
     // Four spinning workers would use up to 4 × 200 ms, and still over 100 ms when other
     // processes leave them a fraction of a loaded 2-core machine; sleeping ones use nothing
     // (the kernel counts in 10 ms ticks, so at most a tick or two by rounding).
@@ -217,6 +236,10 @@ fn idle_workers_sleep(make: MakeQueue) -> Result<(), String> {
     Ok(())
 }
 
+/// The most context switches four idle workers may have in the check's 200 ms: one each on
+/// the way to sleep, with room to spare.
+const MAX_IDLE_SWITCHES: u64 = 16;
+
 /// The calling thread's id in `/proc` (Linux); `None` elsewhere.
 fn thread_id_in_proc() -> Option<u64> {
     let stat = std::fs::read_to_string("/proc/thread-self/stat").ok()?;
@@ -226,6 +249,19 @@ fn thread_id_in_proc() -> Option<u64> {
 /// User + system CPU time of thread `tid` of this process, from `/proc` (Linux).
 fn thread_cpu_time(tid: u64) -> Option<Duration> {
     cpu_time_in_stat(&std::fs::read_to_string(format!("/proc/self/task/{tid}/stat")).ok()?)
+}
+
+/// Voluntary + involuntary context switches of thread `tid` of this process, from `/proc`.
+fn thread_switches(tid: u64) -> Option<u64> {
+    switches_in_status(&std::fs::read_to_string(format!("/proc/self/task/{tid}/status")).ok()?)
+}
+
+/// Voluntary + involuntary context switches in a `/proc/…/status` text.
+fn switches_in_status(status: &str) -> Option<u64> {
+    let field = |name: &str| -> Option<u64> {
+        status.lines().find_map(|line| line.strip_prefix(name)?.strip_prefix(':')?.trim().parse().ok())
+    };
+    Some(field("voluntary_ctxt_switches")? + field("nonvoluntary_ctxt_switches")?)
 }
 
 /// User + system CPU time in one `/proc/…/stat` line.
@@ -242,7 +278,7 @@ fn cpu_time_in_stat(stat: &str) -> Option<Duration> {
 mod tests {
     use std::time::Duration;
 
-    use super::cpu_time_in_stat;
+    use super::{cpu_time_in_stat, switches_in_status};
 
     /// A `/proc/self/task/TID/stat` line, its 52 fields in the order proc(5) gives them, with a
     /// command name that holds a space and a ')' (as a thread may name itself): utime 731
@@ -263,10 +299,26 @@ mod tests {
         assert_eq!(cpu_time_in_stat("41532 pool-worker-0 S 1 2 3"), None);
     }
 
+    /// The end of a `/proc/self/task/TID/status`, with the two counts different (and a field
+    /// whose name ends like theirs) so that a swapped, doubled or missed field shows.
+    const STATUS: &str = "Name:\tpool-worker-0\nState:\tS (sleeping)\nSpeculation_Store_Bypass:\tthread vulnerable\n\
+                          voluntary_ctxt_switches:\t1234\nnonvoluntary_ctxt_switches:\t56\n";
+
+    #[test]
+    fn switches_are_voluntary_plus_involuntary() {
+        assert_eq!(switches_in_status(STATUS), Some(1234 + 56));
+        assert_eq!(switches_in_status("voluntary_ctxt_switches:\t3\n"), None);
+        assert_eq!(
+            switches_in_status("voluntary_ctxt_switches:\tmany\nnonvoluntary_ctxt_switches:\t1\n"),
+            None
+        );
+    }
+
     #[cfg(target_os = "linux")]
     #[test]
     fn this_threads_cpu_time_can_be_read() {
         let tid = super::thread_id_in_proc().expect("/proc/thread-self/stat can be read");
         assert!(super::thread_cpu_time(tid).is_some());
+        assert!(super::thread_switches(tid).is_some());
     }
 }

@@ -19,10 +19,12 @@
 //!
 //! # Reading order
 //!
-//! The modules are declared below in this order. No file imports one that imports it back,
-//! directly or through others: the `use` arrows between files form no circle (`queue.rs`
-//! uses only the latch a job carries and `sync.rs`; `pool.rs` is the only file that uses
-//! `batch.rs`, `discipline.rs` and `worker.rs` together).
+//! The modules are declared below in this order: the order of the ideas, not of the imports.
+//! Almost every file imports `sync.rs` (it only re-exports std's and parking_lot's types, or
+//! loom's under `--cfg loom`: read it first if you like), `queue.rs` names the latch a job
+//! carries (step 7) and `worker.rs` the statistics (step 8). No file imports one that imports
+//! it back, directly or through others: the `use` arrows between files form no circle
+//! (`pool.rs` is the only file that uses `batch.rs`, `discipline.rs` and `worker.rs` together).
 //!
 //! 1. `queue.rs`: what a job is; the [`JobQueue`] interface. It knows no discipline.
 //! 2. `locked.rs`: the textbook queue, a mutex and a condition variable.
@@ -42,8 +44,8 @@
 //!
 //! # Checked, not hoped
 //!
-//! Each protocol has a loom model beside it (`sleep.rs`, `steal.rs`, `locked.rs`, `latch.rs`;
-//! the whole pool in `tests/loom.rs`): loom runs the model once for every interleaving of its
+//! Each protocol has a loom model beside it (`sleep.rs`, `steal.rs`, `locked.rs`, `latch.rs`,
+//! with helpers they share in `queue.rs`'s; the whole pool in `tests/loom.rs`): loom runs the model once for every interleaving of its
 //! threads (up to `LOOM_MAX_PREEMPTIONS` forced switches) and fails with the one that breaks
 //! it. Stress tests (`tests/races.rs`) aim real threads at the same race windows many
 //! thousand times, and every test that waits runs under a deadline, so a bug that blocks

@@ -116,8 +116,20 @@ fn each_broken_queue_fails_the_part_that_checks_what_it_breaks() {
     ];
     for (make, expected) in cases {
         within(format!("the check of a queue that should fail with '{expected}'"), move || {
-            let error = pool::conformance::check_within(make, Duration::from_secs(2)).unwrap_err();
+            let error = pool::conformance::check_within(make, Duration::from_secs(2))
+                .err()
+                .unwrap_or_else(|| panic!("the check passed a queue that should fail with '{expected}'"));
             assert!(error.contains(expected), "expected '{expected}' in: {error}");
         });
     }
+}
+
+#[test]
+fn the_check_with_its_own_deadline_refuses_a_broken_queue_too() {
+    // `check` is what a student calls: it must say no as `check_within` does. A spinning
+    // queue fails fast (its idle workers' CPU time), so its 30 s deadlines are never reached.
+    within("the default check of a spinning queue to finish", || {
+        let error = pool::conformance::check(|_| Faulty::boxed(Fault::Spins)).unwrap_err();
+        assert!(error.contains("a worker with nothing to do must sleep"), "{error}");
+    });
 }
