@@ -29,7 +29,8 @@ while (($#)); do
     shift
 done
 mkdir -p "$out/logs"
-out=$(cd "$out" && pwd)
+# $out stays as given, relative to the repository root (every step below runs from there), so
+# the commands all.md and the logs record read the same in any clone.
 export RAYPOOL_RESULTS=$out
 
 q() { ((quick)) && printf '%s' "$1" || printf '%s' "$2"; }
