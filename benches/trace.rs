@@ -22,6 +22,7 @@ use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::sampling::warp::random_unit_vector;
 use raypool::tracer::scene::Accel;
 use raypool::tracer::shading::material::Material;
+use raypool::tracer::shading::texture::Textures;
 
 const RAYS: usize = 4096;
 
@@ -77,7 +78,16 @@ fn traversal(c: &mut Criterion) {
 
 fn scattering(c: &mut Criterion) {
     let mut rng = SmallRng::seed_from_u64(3);
-    let hit = Hit { t: 1.0, point: Vec3::ZERO, normal: Vec3::Y, front_face: true, material: 0, offset: 1e-6 };
+    let hit = Hit {
+        t: 1.0,
+        point: Vec3::ZERO,
+        normal: Vec3::Y,
+        front_face: true,
+        material: 0,
+        offset: 1e-6,
+        u: 0.0,
+        v: 0.0,
+    };
     let incoming: Vec<Vec3> = (0..RAYS)
         .map(|_| (Vec3::new(rng.random::<Real>() - 0.5, -1.0, rng.random::<Real>() - 0.5)).normalize())
         .collect();
@@ -91,7 +101,9 @@ fn scattering(c: &mut Criterion) {
     for (name, material) in materials {
         group.bench_function(name, |b| {
             b.iter(|| {
-                incoming.iter().for_each(|&d| _ = black_box(material.scatter(black_box(d), &hit, &mut rng)))
+                incoming.iter().for_each(|&d| {
+                    _ = black_box(material.scatter(black_box(d), &hit, &Textures::default(), &mut rng))
+                })
             })
         });
     }

@@ -5,9 +5,10 @@ use rand::rngs::SmallRng;
 use raypool::tracer::geometry::hit::Hit;
 use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::shading::material::{Material, reflect, refract, schlick};
+use raypool::tracer::shading::texture::Textures;
 
 fn hit(normal: Vec3, front_face: bool) -> Hit {
-    Hit { t: 1.0, point: Vec3::ZERO, normal, front_face, material: 0, offset: 1e-6 }
+    Hit { t: 1.0, point: Vec3::ZERO, normal, front_face, material: 0, offset: 1e-6, u: 0.0, v: 0.0 }
 }
 
 fn unit(v: Vec3) -> bool {
@@ -49,7 +50,7 @@ fn total_internal_reflection_beyond_the_critical_angle() {
     let glass = Material::Dielectric { ior: 1.5 };
     let mut rng = SmallRng::seed_from_u64(1);
     for _ in 0..100 {
-        let s = glass.scatter(v, &hit(n, false), &mut rng).unwrap();
+        let s = glass.scatter(v, &hit(n, false), &Textures::default(), &mut rng).unwrap();
         assert!((s.direction - reflect(v, n)).length() < 1e-6);
         assert_eq!(s.attenuation, Vec3::ONE);
     }
@@ -84,7 +85,7 @@ fn every_material_scatters_to_unit_directions_on_the_right_side() {
             let incoming = (-n
                 + 0.7 * Vec3::new((k % 7) as Real - 3.0, 1.0, (k % 5) as Real - 2.0).normalize())
             .normalize();
-            let Some(s) = m.scatter(incoming, &hit(n, true), &mut rng) else {
+            let Some(s) = m.scatter(incoming, &hit(n, true), &Textures::default(), &mut rng) else {
                 assert!(matches!(m, Material::Metal { .. }), "only fuzzy metal absorbs");
                 continue;
             };
@@ -98,6 +99,7 @@ fn every_material_scatters_to_unit_directions_on_the_right_side() {
                         || (s.direction - reflect(incoming, n)).length() < 1e-4
                 ),
                 Material::Dielectric { .. } => {}
+                other => unreachable!("not in the list: {other:?}"),
             }
         }
     }
@@ -110,7 +112,7 @@ fn lambertian_never_returns_a_degenerate_direction() {
     let m = Material::Lambertian { albedo: Vec3::ONE };
     let mut rng = SmallRng::seed_from_u64(3);
     for _ in 0..100_000 {
-        let s = m.scatter(-Vec3::Z, &hit(Vec3::Z, true), &mut rng).unwrap();
+        let s = m.scatter(-Vec3::Z, &hit(Vec3::Z, true), &Textures::default(), &mut rng).unwrap();
         assert!(s.direction.is_finite() && unit(s.direction));
     }
 }

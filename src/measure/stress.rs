@@ -110,11 +110,11 @@ impl StressCase {
 const WHITE: BackgroundSpec = BackgroundSpec::Constant { color: [1.0; 3] };
 
 fn sphere(center: [f64; 3], radius: f64, material: MaterialSpec) -> SphereSpec {
-    SphereSpec { center, radius, material: MaterialRef::Inline(material) }
+    SphereSpec { center, radius, material: MaterialRef::Inline(material), center1: None }
 }
 
 fn grey() -> MaterialSpec {
-    MaterialSpec::Lambertian { albedo: [0.5; 3] }
+    MaterialSpec::lambertian([0.5; 3])
 }
 
 fn glass() -> MaterialSpec {
@@ -127,7 +127,7 @@ fn camera(lookfrom: [f64; 3], lookat: [f64; 3], vfov: f64) -> CameraSettings {
 }
 
 fn under_white_sky(camera: CameraSettings, spheres: Vec<SphereSpec>) -> SceneFile {
-    SceneFile { camera, background: WHITE, materials: Default::default(), spheres }
+    SceneFile { spheres, ..SceneFile::new(camera, WHITE) }
 }
 
 /// The grey furnace sphere, scaled by `scale` and moved by `offset`.
@@ -188,8 +188,8 @@ pub fn cases() -> Vec<StressCase> {
     cases.push(case("ray origins exactly on a surface", on_surface, 1.0, 1.0, (32, 4, 50)));
     for (name, material) in [
         ("degenerate: fuzz 5 (acts as 1)", MaterialSpec::Metal { albedo: [0.8; 3], fuzz: 5.0 }),
-        ("degenerate: black albedo", MaterialSpec::Lambertian { albedo: [0.0; 3] }),
-        ("degenerate: albedo above 1", MaterialSpec::Lambertian { albedo: [1.5; 3] }),
+        ("degenerate: black albedo", MaterialSpec::lambertian([0.0; 3])),
+        ("degenerate: albedo above 1", MaterialSpec::lambertian([1.5; 3])),
         ("degenerate: ior 1e-3", MaterialSpec::Dielectric { ior: 1e-3 }),
     ] {
         let floor = sphere([0.0, -101.0, 0.0], 100.0, MaterialSpec::Metal { albedo: [0.9; 3], fuzz: 1.0 });

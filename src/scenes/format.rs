@@ -33,21 +33,23 @@
 //! accepts but a renderer cannot use (NaN, zero radius, a camera looking nowhere…).
 
 use std::collections::BTreeMap;
-use std::fmt;
 use std::io::Read;
 use std::path::Path;
 
 use glam::DVec3;
-use serde::de::{self, MapAccess, Visitor};
-use serde::{Deserialize, Deserializer, Serialize};
+use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, io_reason};
+use crate::scenes::assets::{Assets, BUILTIN_IMAGES};
+use crate::scenes::looks::{Looks, Ref, Tables, TextureSpec, check, check_texture, colour};
+use crate::scenes::world::{GroupSpec, MeshSpec, Shapes, finite3, placed};
 use crate::tracer::camera::CameraSettings;
-use crate::tracer::geometry::sphere::Sphere;
-use crate::tracer::math::real::{Real, vec3};
+use crate::tracer::math::real::vec3;
 use crate::tracer::scene::Scene;
 use crate::tracer::shading::background::Background;
-use crate::tracer::shading::material::Material;
+
+pub use crate::scenes::looks::{MaterialRef, MaterialSpec};
+pub use crate::scenes::world::{BoxSpec, MediumSpec, QuadSpec, SphereSpec, TriangleSpec};
 
 /// A whole scene file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -58,12 +60,47 @@ pub struct SceneFile {
     /// The background block (the book's gradient when absent).
     #[serde(default)]
     pub background: BackgroundSpec,
-    /// Named materials that spheres may refer to.
+    /// Named materials that shapes may refer to.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub materials: BTreeMap<String, MaterialSpec>,
+    /// Named textures that materials may refer to.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub textures: BTreeMap<String, TextureSpec>,
     /// The spheres, one `[[sphere]]` table each.
     #[serde(default, rename = "sphere", skip_serializing_if = "Vec::is_empty")]
     pub spheres: Vec<SphereSpec>,
+    /// `[[quad]]` tables.
+    #[serde(default, rename = "quad", skip_serializing_if = "Vec::is_empty")]
+    pub quads: Vec<QuadSpec>,
+    /// `[[box]]` tables.
+    #[serde(default, rename = "box", skip_serializing_if = "Vec::is_empty")]
+    pub boxes: Vec<BoxSpec>,
+    /// `[[triangle]]` tables.
+    #[serde(default, rename = "triangle", skip_serializing_if = "Vec::is_empty")]
+    pub triangles: Vec<TriangleSpec>,
+    /// `[[mesh]]` tables.
+    #[serde(default, rename = "mesh", skip_serializing_if = "Vec::is_empty")]
+    pub meshes: Vec<MeshSpec>,
+    /// `[[medium]]` tables.
+    #[serde(default, rename = "medium", skip_serializing_if = "Vec::is_empty")]
+    pub media: Vec<MediumSpec>,
+    /// `[[group]]` tables: shapes placed together (instances).
+    #[serde(default, rename = "group", skip_serializing_if = "Vec::is_empty")]
+    pub groups: Vec<GroupSpec>,
+    /// The files it names, loaded ([`SceneFile::read`]); not part of what it says.
+    #[serde(skip)]
+    pub assets: Loaded,
+}
+
+/// What a scene file's named files became. Equal for any two scenes: they are fixed by the
+/// text, which is what [`SceneFile`] equality compares.
+#[derive(Clone, Debug, Default)]
+pub struct Loaded(pub Assets);
+
+impl PartialEq for Loaded {
+    fn eq(&self, _: &Loaded) -> bool {
+        true
+    }
 }
 
 /// The `[background]` block.
@@ -82,78 +119,13 @@ pub enum BackgroundSpec {
         /// Linear RGB.
         color: [f64; 3],
     },
+    /// `kind = "black"`: no light from outside; only emitters light the scene.
+    Black,
 }
 
 impl Default for BackgroundSpec {
     fn default() -> Self {
         BackgroundSpec::Gradient { horizon: [1.0, 1.0, 1.0], zenith: [0.5, 0.7, 1.0] }
-    }
-}
-
-/// A material as written: `{ kind = "lambertian" | "metal" | "dielectric", … }`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "lowercase", deny_unknown_fields)]
-pub enum MaterialSpec {
-    /// Diffuse.
-    Lambertian {
-        /// Reflectance per channel, each ≥ 0.
-        albedo: [f64; 3],
-    },
-    /// Fuzzy mirror.
-    Metal {
-        /// Reflectance per channel, each ≥ 0.
-        albedo: [f64; 3],
-        /// Blur, ≥ 0 (values above 1 act as 1); default 0.
-        #[serde(default)]
-        fuzz: f64,
-    },
-    /// Glass.
-    Dielectric {
-        /// Refractive index, > 0.
-        ior: f64,
-    },
-}
-
-/// One `[[sphere]]` table.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SphereSpec {
-    /// Centre.
-    pub center: [f64; 3],
-    /// Radius, non-zero; negative for a hollow shell.
-    pub radius: f64,
-    /// Inline material or the name of one in `[materials]`.
-    pub material: MaterialRef,
-}
-
-/// A sphere's material: written inline as a table, or as the name of a named material.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(untagged)]
-pub enum MaterialRef {
-    /// `material = "gold"`.
-    Named(String),
-    /// `material = { kind = "metal", … }`.
-    Inline(MaterialSpec),
-}
-
-// Hand-written so that an inline table's errors (an unknown `kind`, a missing field) reach
-// the user verbatim, instead of serde's "data did not match any variant".
-impl<'de> Deserialize<'de> for MaterialRef {
-    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-        struct RefVisitor;
-        impl<'de> Visitor<'de> for RefVisitor {
-            type Value = MaterialRef;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a material table or the name of a material in [materials]")
-            }
-            fn visit_str<E: de::Error>(self, name: &str) -> Result<MaterialRef, E> {
-                Ok(MaterialRef::Named(name.to_owned()))
-            }
-            fn visit_map<M: MapAccess<'de>>(self, map: M) -> Result<MaterialRef, M::Error> {
-                MaterialSpec::deserialize(de::value::MapAccessDeserializer::new(map)).map(MaterialRef::Inline)
-            }
-        }
-        deserializer.deserialize_any(RefVisitor)
     }
 }
 
@@ -167,7 +139,8 @@ pub const MAX_SCENE_FILE_BYTES: u64 = 16 << 20;
 impl SceneFile {
     /// Reads, parses and validates the scene file at `path`, refusing one longer than
     /// [`MAX_SCENE_FILE_BYTES`] after reading at most one byte past that bound (so endless
-    /// files and pipes are refused too).
+    /// files and pipes are refused too), then loads the files it names (OBJ meshes, images)
+    /// from its folder.
     ///
     /// ```
     /// # use raypool::scenes::format::SceneFile;
@@ -190,18 +163,63 @@ impl SceneFile {
         }
         let text = String::from_utf8(bytes)
             .map_err(|_| Error::new(format!("scene file '{name}' is not UTF-8 text: not a scene")))?;
-        SceneFile::parse(&text, &name.to_string())
+        let folder = match path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        SceneFile::parse_in(&text, &name.to_string(), Some(folder))
     }
 
-    /// Parses and validates TOML text; `origin` names the source in error messages.
+    /// Parses and validates TOML text; `origin` names the source in error messages. A scene
+    /// parsed from text alone may not name files (it has no folder to find them in).
     pub fn parse(text: &str, origin: &str) -> Result<SceneFile, Error> {
-        let file: SceneFile = toml::from_str(text).map_err(|e| {
+        SceneFile::parse_in(text, origin, None)
+    }
+
+    fn parse_in(text: &str, origin: &str, folder: Option<&Path>) -> Result<SceneFile, Error> {
+        let mut file: SceneFile = toml::from_str(text).map_err(|e| {
             let (line, col) = e.span().map_or((1, 1), |span| line_col(text, span.start));
             let message = e.message().trim_end().replace('\n', " ");
             Error::new(format!("{origin}:{line}:{col}: {message}"))
         })?;
         file.validate().map_err(|e| Error::new(format!("{origin}: {e}")))?;
+        file.assets = Loaded(file.load_assets(folder).map_err(|e| Error::new(format!("{origin}: {e}")))?);
         Ok(file)
+    }
+
+    /// An empty scene seen by `camera` under `background`.
+    pub fn new(camera: CameraSettings, background: BackgroundSpec) -> SceneFile {
+        SceneFile {
+            camera,
+            background,
+            materials: BTreeMap::new(),
+            textures: BTreeMap::new(),
+            spheres: Vec::new(),
+            quads: Vec::new(),
+            boxes: Vec::new(),
+            triangles: Vec::new(),
+            meshes: Vec::new(),
+            media: Vec::new(),
+            groups: Vec::new(),
+            assets: Loaded::default(),
+        }
+    }
+
+    /// The top level's shape lists.
+    pub fn shapes(&self) -> Shapes<'_> {
+        Shapes {
+            spheres: &self.spheres,
+            quads: &self.quads,
+            boxes: &self.boxes,
+            triangles: &self.triangles,
+            meshes: &self.meshes,
+            media: &self.media,
+        }
+    }
+
+    /// Every shape list: the top level's, then each group's.
+    fn all_shapes(&self) -> impl Iterator<Item = Shapes<'_>> {
+        std::iter::once(self.shapes()).chain(self.groups.iter().map(GroupSpec::shapes))
     }
 
     /// The scene as TOML text that [`SceneFile::parse`] reads back to an equal value.
@@ -219,16 +237,20 @@ impl SceneFile {
                 inline(&s.radius),
                 inline(&s.material)
             );
+            if let Some(c1) = &s.center1 {
+                text += &format!("center1 = {}\n", inline(c1));
+            }
         }
         text
     }
 
     /// Checks what the TOML grammar cannot: finite numbers, sensible camera, non-zero radii,
-    /// known material names. The message names the offending item.
+    /// shapes with area, known material and texture names. The message names the offending
+    /// item.
     pub fn validate(&self) -> Result<(), String> {
         let c = &self.camera;
         for (name, v) in [("lookfrom", c.lookfrom), ("lookat", c.lookat), ("vup", c.vup)] {
-            finite3(v).map_err(|_| format!("camera.{name} must be finite numbers, got {v:?}"))?;
+            check(finite3(v), || format!("camera.{name} must be finite numbers, got {v:?}"))?;
         }
         for (name, x) in
             [("vfov", c.vfov), ("aperture", c.aperture), ("focus_dist", c.focus_dist), ("aspect", c.aspect)]
@@ -256,96 +278,83 @@ impl SceneFile {
             BackgroundSpec::Constant { color } => {
                 colour(color).map_err(|e| format!("background.color {e}"))?
             }
+            BackgroundSpec::Black => {}
+        }
+        let looks = Looks { materials: &self.materials, textures: &self.textures };
+        for (name, t) in &self.textures {
+            check_texture(t).map_err(|e| format!("textures.{name}: {e}"))?;
         }
         for (name, m) in &self.materials {
-            validate_material(m).map_err(|e| format!("materials.{name}: {e}"))?;
+            looks.check_material_spec(m).map_err(|e| format!("materials.{name}: {e}"))?;
         }
-        for (i, s) in self.spheres.iter().enumerate() {
-            let at = format!("sphere #{} (center {:?})", i + 1, s.center);
-            finite3(s.center).map_err(|_| format!("sphere #{}: center must be finite numbers", i + 1))?;
-            check(s.radius.is_finite() && s.radius != 0.0, || {
-                format!("{at}: radius must be finite and non-zero, got {}", s.radius)
+        self.shapes().check(&looks, "")?;
+        for (i, g) in self.groups.iter().enumerate() {
+            g.shapes().check(&looks, &format!("group #{} ", i + 1))?;
+        }
+        for (builtin, _) in self.image_sources().filter_map(|(p, b)| b.map(|b| (b, p))) {
+            check(BUILTIN_IMAGES.contains(&builtin), || {
+                format!("unknown built-in image '{builtin}' (known: {})", BUILTIN_IMAGES.join(", "))
             })?;
-            match &s.material {
-                MaterialRef::Inline(m) => validate_material(m).map_err(|e| format!("{at}: material {e}"))?,
-                MaterialRef::Named(n) => check(self.materials.contains_key(n), || {
-                    format!("{at}: unknown material '{n}' (not in [materials])")
-                })?,
-            }
         }
         Ok(())
     }
 
+    /// Every image texture's `(path, builtin)`, named or inline.
+    fn image_sources(&self) -> impl Iterator<Item = (Option<&str>, Option<&str>)> {
+        let inline = self.all_shapes().flat_map(|s| s.material_refs().collect::<Vec<_>>());
+        let materials = self.materials.values().chain(inline.filter_map(|m| match m {
+            Ref::Inline(spec) => Some(spec),
+            Ref::Named(_) => None,
+        }));
+        let textures = materials
+            .filter_map(|m| match m {
+                MaterialSpec::Lambertian { texture: Some(Ref::Inline(t)), .. } => Some(t),
+                _ => None,
+            })
+            .chain(self.textures.values());
+        textures.filter_map(|t| match t {
+            TextureSpec::Image { path, builtin } => Some((path.as_deref(), builtin.as_deref())),
+            _ => None,
+        })
+    }
+
+    /// Loads the OBJ files and images the (validated) scene names, from `folder`.
+    fn load_assets(&self, folder: Option<&Path>) -> Result<Assets, String> {
+        let meshes: Vec<(usize, &MeshSpec)> =
+            self.all_shapes().flat_map(|s| s.meshes.iter().enumerate().map(|(i, m)| (i + 1, m))).collect();
+        let images: Vec<&str> = self.image_sources().filter_map(|(path, _)| path).collect();
+        Assets::load(folder, &meshes, &images)
+    }
+
     /// The render-ready scene. Call on a validated file (as [`SceneFile::parse`] returns).
     pub fn to_scene(&self) -> Scene {
-        let mut materials = Vec::new();
-        let named: BTreeMap<&str, u32> = self
-            .materials
-            .iter()
-            .map(|(name, spec)| {
-                materials.push(spec.to_material());
-                (name.as_str(), (materials.len() - 1) as u32)
-            })
-            .collect();
-        let spheres = self
-            .spheres
-            .iter()
-            .map(|s| {
-                let material = match &s.material {
-                    MaterialRef::Named(n) => named[n.as_str()],
-                    MaterialRef::Inline(spec) => {
-                        materials.push(spec.to_material());
-                        (materials.len() - 1) as u32
-                    }
-                };
-                Sphere { center: vec3(s.center), radius: s.radius as Real, material }
-            })
-            .collect();
+        let looks = Looks { materials: &self.materials, textures: &self.textures };
+        let mut tables = Tables::default();
+        let mut media = 0;
+        let assets = &self.assets.0;
+        let (spheres, mut objects) = self.shapes().build(&looks, assets, &mut tables, &mut media);
+        for g in &self.groups {
+            let (inner_spheres, inner) = g.shapes().build(&looks, assets, &mut tables, &mut media);
+            let inner =
+                inner_spheres.into_iter().map(crate::tracer::world::object::Object::Sphere).chain(inner);
+            objects.extend(placed(inner.collect(), g.transform.as_ref()));
+        }
         let background = match self.background {
             BackgroundSpec::Gradient { horizon, zenith } => {
                 Background::Gradient { horizon: vec3(horizon), zenith: vec3(zenith) }
             }
             BackgroundSpec::Constant { color } => Background::Constant { color: vec3(color) },
+            BackgroundSpec::Black => Background::Constant { color: vec3([0.0; 3]) },
         };
-        Scene::new(spheres, materials, background, self.camera.clone())
+        Scene::with_world(
+            spheres,
+            objects,
+            tables.materials,
+            tables.textures,
+            background,
+            self.camera.clone(),
+        )
     }
-}
-
-impl MaterialSpec {
-    fn to_material(&self) -> Material {
-        match *self {
-            MaterialSpec::Lambertian { albedo } => Material::Lambertian { albedo: vec3(albedo) },
-            MaterialSpec::Metal { albedo, fuzz } => {
-                Material::Metal { albedo: vec3(albedo), fuzz: fuzz as Real }
-            }
-            MaterialSpec::Dielectric { ior } => Material::Dielectric { ior: ior as Real },
-        }
-    }
-}
-
-fn validate_material(m: &MaterialSpec) -> Result<(), String> {
-    match *m {
-        MaterialSpec::Lambertian { albedo } => colour(albedo).map_err(|e| format!("albedo {e}")),
-        MaterialSpec::Metal { albedo, fuzz } => {
-            colour(albedo).map_err(|e| format!("albedo {e}"))?;
-            check(fuzz.is_finite() && fuzz >= 0.0, || format!("fuzz must be finite and ≥ 0, got {fuzz}"))
-        }
-        MaterialSpec::Dielectric { ior } => {
-            check(ior.is_finite() && ior > 0.0, || format!("ior must be finite and > 0, got {ior}"))
-        }
-    }
-}
-
-fn check(ok: bool, message: impl FnOnce() -> String) -> Result<(), String> {
-    if ok { Ok(()) } else { Err(message()) }
-}
-
-fn finite3(v: [f64; 3]) -> Result<(), ()> {
-    if v.iter().all(|x| x.is_finite()) { Ok(()) } else { Err(()) }
-}
-
-fn colour(v: [f64; 3]) -> Result<(), String> {
-    check(v.iter().all(|x| x.is_finite() && *x >= 0.0), || format!("must be finite and ≥ 0, got {v:?}"))
 }
 
 /// `value` as an inline TOML value.

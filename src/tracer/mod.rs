@@ -4,9 +4,10 @@
 //! |---|---|
 //! | [`math`] | the scalar and vector types, angles as fractions of a turn, rays |
 //! | [`sampling`] | a pixel sample's random numbers: the sampler interface, independent and Sobol streams, warps |
-//! | [`geometry`] | the shapes rays meet (spheres) and what a hit reports |
-//! | [`shading`] | materials and the background |
+//! | [`geometry`] | the shapes rays meet (spheres, moving spheres, quads, triangles) and what a hit reports |
+//! | [`shading`] | materials (lights and fog's phase function among them), textures and the background |
 //! | [`accel`] | finding the nearest hit fast: SIMD packets, the binary tree, the four-wide tree |
+//! | [`world`] | what the second book builds from shapes: groups, meshes, instances, media |
 //! | [`camera`] | rays from pixels through a thin lens |
 //! | [`scene`] | the scene that holds them all, and the one hit search that dispatches to the chosen tree |
 //! | [`tile`] | how an image is cut into tiles, and tiles into shards |
@@ -26,6 +27,7 @@ pub mod sampling;
 pub mod geometry;
 pub mod shading;
 pub mod accel;
+pub mod world;
 pub mod camera;
 pub mod scene;
 pub mod tile;

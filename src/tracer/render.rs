@@ -20,6 +20,7 @@ use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, SampleRng, S
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
 use crate::tracer::tile::Tile;
+use crate::tracer::world::object::Probe;
 
 /// Largest accepted image side, pixels (the command line and every other entry point check it).
 pub const MAX_SIDE: u32 = 16384;
@@ -163,7 +164,8 @@ pub fn render_tile<S: RandomStreams>(job: &RenderJob, streams: &S, tile: Tile) -
 
 /// [`render_tile`], with each ray's closest hit found by `closest_hit` instead of the scene's
 /// own search: how `cargo bench --bench embree` traces the same paths over another library's
-/// hierarchy. Materials, background and camera are still the job's.
+/// hierarchy. Materials, background and camera are still the job's. For a first-book scene
+/// only (a second-book scene's world searches itself, and `closest_hit` is not called).
 pub fn render_tile_with<S: RandomStreams>(
     job: &RenderJob,
     streams: &S,
@@ -231,8 +233,30 @@ pub fn accumulate_tile<S: RandomStreams>(
     accumulate(job, streams, tile, samples, sums, |ray| job.scene.hit(ray, Real::INFINITY))
 }
 
-/// [`accumulate_tile`] with the closest-hit search passed in (the scene's, or another's).
+/// [`accumulate_tile`] with the closest-hit search of a first-book scene passed in (the
+/// scene's, or another library's). The one pixel loop, in two instantiations chosen once per
+/// call: a first-book scene's paths ([`trace`] without the world's work), or a second-book
+/// scene's (emission, textures, time and media; `closest_hit` is then unused: its world has
+/// its own search).
 fn accumulate<S: RandomStreams>(
+    job: &RenderJob,
+    streams: &S,
+    tile: Tile,
+    samples: impl Fn(u32, u32) -> std::ops::Range<u32>,
+    sums: &mut PixelSums,
+    closest_hit: impl Fn(&Ray) -> Option<Hit>,
+) -> u64 {
+    if job.scene.is_first_book() {
+        accumulate_paths::<S, false>(job, streams, tile, samples, sums, closest_hit)
+    } else {
+        accumulate_paths::<S, true>(job, streams, tile, samples, sums, closest_hit)
+    }
+}
+
+/// The pixel loop: every sample of every pixel of `tile` through [`trace`], second-book work
+/// included if `WORLD`.
+#[inline(always)]
+fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
     job: &RenderJob,
     streams: &S,
     tile: Tile,
@@ -250,7 +274,12 @@ fn accumulate<S: RandomStreams>(
         for sample in samples(i, j) {
             let mut rng = pixel_streams.stream(sample as u64);
             let ray = job.camera.ray(i, j, &mut rng);
-            let value = to_dvec3(trace(&job.scene, &closest_hit, ray, &job.settings, &mut rng, &mut rays));
+            // The shutter time, drawn only where something moves (after the camera's numbers,
+            // so a still scene's numbers are those it always drew).
+            let time = if WORLD && job.scene.has_motion() { uniform(&mut rng) } else { 0.0 };
+            let value =
+                trace::<_, WORLD>(&job.scene, &closest_hit, ray, time, &job.settings, &mut rng, &mut rays);
+            let value = to_dvec3(value);
             sums.sums[k] += value;
             if sample % 2 == 1 {
                 sums.odd[k] += value;
@@ -261,43 +290,60 @@ fn accumulate<S: RandomStreams>(
     rays
 }
 
-/// The radiance arriving along `ray`: the book's `ray_color`, as a loop, each ray's closest hit
-/// found by `closest_hit` (the scene's own search, `|ray| scene.hit(ray, Real::INFINITY)`, except
-/// in the Embree benchmark). A path casts at most `settings.max_depth` rays; one still
-/// bouncing after that contributes black. Adds the number of rays cast to `rays`. Forced inline
-/// into the render loop: left to the compiler, `final` took 1.8% more instructions
-/// (`results/perf.md`).
+/// The radiance arriving along `ray`: the book's `ray_color`, as a loop. A path casts at most
+/// `settings.max_depth` rays; one still bouncing after that contributes black. Adds the number
+/// of rays cast to `rays`. Forced inline into the render loop: left to the compiler, `final`
+/// took 1.8% more instructions (`results/perf.md`).
+///
+/// Without `WORLD` (a first-book scene), each ray's closest hit is found by `closest_hit` (the
+/// scene's sphere search, `|ray| scene.hit(ray, Real::INFINITY)`, except in the Embree
+/// benchmark), and nothing emits. With `WORLD`, the scene's world is searched with a
+/// [`Probe`] carrying `time` (and, in a scene with media, a seed drawn for each ray), and every
+/// surface hit adds what it emits, weighted by the path's throughput.
 #[inline(always)]
-pub fn trace<R: SampleRng + ?Sized>(
+pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
     scene: &Scene,
     closest_hit: &impl Fn(&Ray) -> Option<Hit>,
     mut ray: Ray,
+    time: Real,
     settings: &RenderSettings,
     rng: &mut R,
     rays: &mut u64,
 ) -> Vec3 {
+    let mut radiance = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
     for cast in 1..=settings.max_depth {
         *rays += 1;
-        let Some(hit) = closest_hit(&ray) else {
-            return throughput * scene.background.radiance(ray.dir);
+        let found = if WORLD {
+            let medium_seed = if scene.has_media() { rng.next_u64() } else { 0 };
+            scene.hit_world(&ray, &Probe { time, medium_seed })
+        } else {
+            closest_hit(&ray)
+        };
+        let Some(hit) = found else {
+            let sky = throughput * scene.background.radiance(ray.dir);
+            return if WORLD { radiance + sky } else { sky };
         };
         rng.bounce(cast - 1);
-        let Some(scatter) = scene.material(&hit).scatter(ray.dir, &hit, rng) else {
-            return Vec3::ZERO;
+        let material = scene.material(&hit);
+        if WORLD {
+            radiance += throughput * material.emitted(&hit);
+        }
+        let Some(scatter) = material.scatter(ray.dir, &hit, &scene.textures, rng) else {
+            return radiance;
         };
         throughput *= scatter.attenuation;
         if settings.stop_black_paths && throughput == Vec3::ZERO {
-            return Vec3::ZERO;
+            return radiance;
         }
         if settings.roulette && cast >= ROULETTE_AFTER {
             let survive = throughput.max_element().min(0.95);
             if uniform(rng) >= survive {
-                return Vec3::ZERO;
+                return radiance;
             }
             throughput /= survive;
         }
         ray = hit.spawn(scatter.direction);
     }
-    Vec3::ZERO
+    radiance
 }

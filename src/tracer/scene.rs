@@ -1,8 +1,17 @@
-//! A scene ready to render: flat arrays of spheres and materials, a background, a camera.
+//! A scene ready to render: flat arrays of spheres and materials, a background, a camera; and,
+//! for the second book's scenes, a world of objects and textures.
 //!
 //! Built from a [`SceneFile`](crate::scenes::format::SceneFile), which is what users write;
 //! this is what the tracer reads. Everything is plain data (`Sync` for free), shared by
 //! reference between render threads.
+//!
+//! **Skip what a scene doesn't need.** A scene of the first book's kinds (static spheres;
+//! diffuse, metal and glass) keeps the sphere search of `accel/` and the render loop that
+//! never asks for emission, textures, time or media ([`Scene::is_first_book`], decided once
+//! per render, not per ray). Any other scene puts every object, spheres too, in one
+//! [`Group`], searched with a [`Probe`] that carries the ray's time and media seed, and each
+//! of those is drawn only if the scene has something that moves ([`Scene::has_motion`]) or a
+//! medium ([`Scene::has_media`]).
 
 use crate::tracer::accel::bvh::{Bvh, half_area_around};
 use crate::tracer::accel::wide::WideBvh;
@@ -13,6 +22,9 @@ use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::Real;
 use crate::tracer::shading::background::Background;
 use crate::tracer::shading::material::Material;
+use crate::tracer::shading::texture::Textures;
+use crate::tracer::world::group::{Group, TREE_MIN_OBJECTS};
+use crate::tracer::world::object::{Object, Probe};
 
 /// Scenes with fewer spheres than this test every sphere: a hierarchy costs more than it
 /// saves there (`results/perf.md`).
@@ -79,6 +91,16 @@ pub struct Scene {
     pub background: Background,
     /// Camera parameters (the image size is chosen at render time).
     pub camera: CameraSettings,
+    /// Every object of a second-book scene (empty in a first-book one).
+    objects: Group,
+    /// The textures its materials use.
+    pub textures: Textures,
+    /// Whether the sphere search and the first book's render loop serve.
+    first_book: bool,
+    /// Whether anything moves during the shutter interval.
+    motion: bool,
+    /// Whether any object is a participating medium.
+    media: bool,
 }
 
 impl Scene {
@@ -94,10 +116,48 @@ impl Scene {
         background: Background,
         camera: CameraSettings,
     ) -> Scene {
-        assert!(
-            spheres.iter().all(|s| (s.material as usize) < materials.len()),
-            "material index out of range"
-        );
+        Scene::with_world(spheres, Vec::new(), materials, Textures::default(), background, camera)
+    }
+
+    /// A scene of these spheres and other `objects`, with `textures` for its materials. If it
+    /// has only static spheres and the first book's materials, it is exactly
+    /// [`Scene::new`]'s; otherwise every sphere joins the objects in one [`Group`].
+    ///
+    /// # Panics
+    /// If a material index is out of range.
+    pub fn with_world(
+        spheres: Vec<Sphere>,
+        objects: Vec<Object>,
+        materials: Vec<Material>,
+        textures: Textures,
+        background: Background,
+        camera: CameraSettings,
+    ) -> Scene {
+        let mut used: Vec<u32> = spheres.iter().map(|s| s.material).collect();
+        objects.iter().for_each(|o| o.materials(&mut used));
+        assert!(used.iter().all(|&m| (m as usize) < materials.len()), "material index out of range");
+        let first_book = objects.is_empty() && materials.iter().all(Material::is_first_book);
+        if !first_book {
+            let objects: Vec<Object> = spheres.into_iter().map(Object::Sphere).chain(objects).collect();
+            let objects = Group::new(objects);
+            let (motion, media) = objects.needs();
+            let accel = if objects.has_tree() { Accel::Wide } else { Accel::Flat };
+            return Scene {
+                spheres: Vec::new(),
+                materials,
+                tree: Tree::None,
+                direct_count: 0,
+                accel,
+                intersection: Intersection::Robust,
+                background,
+                camera,
+                objects,
+                textures,
+                first_book,
+                motion,
+                media,
+            };
+        }
         let accel = match spheres.len() {
             n if n < BVH_MIN_SPHERES => Accel::Flat,
             n if n < WIDE_MIN_SPHERES => Accel::Binary,
@@ -112,6 +172,11 @@ impl Scene {
             intersection: Intersection::Robust,
             background,
             camera,
+            objects: Group::new(Vec::new()),
+            textures,
+            first_book,
+            motion: false,
+            media: false,
         };
         scene.with_accel(accel)
     }
@@ -119,7 +184,16 @@ impl Scene {
     /// The same scene with another way of finding hits (for comparisons). Rebuilding may
     /// reorder the spheres; [`Accel::Flat`] keeps their order, so it finds exactly what the
     /// scene's hierarchy finds, ties included.
+    ///
+    /// A second-book scene has one choice only: its group searched one object at a time
+    /// ([`Accel::Flat`]) or through its tree (every other choice).
     pub fn with_accel(mut self, accel: Accel) -> Scene {
+        if !self.first_book {
+            let tree = accel != Accel::Flat && self.objects.objects().len() >= TREE_MIN_OBJECTS;
+            self.objects = self.objects.rebuilt(tree);
+            self.accel = if tree { accel } else { Accel::Flat };
+            return self;
+        }
         let mut direct = match accel {
             Accel::Flat => self.spheres.len(),
             Accel::WideHugeApart => move_huge_first(&mut self.spheres),
@@ -167,7 +241,35 @@ impl Scene {
 
     /// Whether intersection goes through a bounding volume hierarchy.
     pub fn has_bvh(&self) -> bool {
-        !matches!(self.tree, Tree::None)
+        !matches!(self.tree, Tree::None) || self.objects.has_tree()
+    }
+
+    /// Whether this is a scene of the first book's kinds only (static spheres; diffuse, metal,
+    /// glass), rendered by the sphere search and the render loop without emission, textures,
+    /// time or media.
+    pub fn is_first_book(&self) -> bool {
+        self.first_book
+    }
+
+    /// Whether anything moves (camera rays then draw a time).
+    pub fn has_motion(&self) -> bool {
+        self.motion
+    }
+
+    /// Whether any object is a medium (rays then draw a seed for media).
+    pub fn has_media(&self) -> bool {
+        self.media
+    }
+
+    /// A second-book scene's objects, in their search order (empty for a first-book scene).
+    pub fn objects(&self) -> &[Object] {
+        self.objects.objects()
+    }
+
+    /// The closest hit along `ray` in a second-book scene.
+    #[inline]
+    pub fn hit_world(&self, ray: &Ray, probe: &Probe) -> Option<Hit> {
+        self.objects.hit(ray, Real::INFINITY, probe)
     }
 
     /// How hits are found.

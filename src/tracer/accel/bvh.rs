@@ -20,7 +20,7 @@
 //! `wide.rs` collapses from this one; the binary traversal stays for comparison.
 
 use crate::tracer::geometry::hit::Closest;
-use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 
@@ -33,61 +33,10 @@ const SAH_DEPTH: usize = 32;
 const STACK: usize = 64;
 const BINS: usize = 16;
 
-/// An axis-aligned box.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Aabb {
-    min: Vec3,
-    max: Vec3,
-}
-
-impl Aabb {
-    const EMPTY: Aabb = Aabb { min: Vec3::splat(Real::INFINITY), max: Vec3::splat(Real::NEG_INFINITY) };
-
-    /// The sphere's box, padded by the sphere test's rounding: its computed hits can lie
-    /// outside the exact sphere (measured: the ground of `final`, radius 1000, was hit
-    /// 1.7·10⁻⁵ above its box's top, so the box was skipped and a farther sphere reported;
-    /// `results/perf.md`). The pad is 2 units of `ε·(|centre| + |radius|)`; that hit was 0.14
-    /// of one. New rays start 8 units off the surface ([`Sphere::spawn_offset`]), outside the
-    /// pad, so a ray leaving a sphere outwards still misses its box.
-    fn of_sphere(s: &Sphere) -> Aabb {
-        let r = Vec3::splat(s.radius.abs() + 0.25 * s.spawn_offset());
-        Aabb { min: s.center - r, max: s.center + r }
-    }
-
-    fn union(self, other: Aabb) -> Aabb {
-        Aabb { min: self.min.min(other.min), max: self.max.max(other.max) }
-    }
-
-    fn grow(self, p: Vec3) -> Aabb {
-        Aabb { min: self.min.min(p), max: self.max.max(p) }
-    }
-
-    fn half_area(&self) -> Real {
-        let d = (self.max - self.min).max(Vec3::ZERO);
-        d.x * d.y + d.y * d.z + d.z * d.x
-    }
-
-    /// Slab test: does the ray enter the box before `t_max`?
-    ///
-    /// The clamps are plain comparisons rather than `f32::max`/`min`, whose NaN handling
-    /// costs extra instructions on the hottest line of the renderer (profiled). The results
-    /// are the same, NaN included: a NaN `near` becomes 0 and a NaN `far` becomes `t_max`.
-    #[inline]
-    fn hit(&self, origin: Vec3, inv_dir: Vec3, t_max: Real) -> bool {
-        let t0 = (self.min - origin) * inv_dir;
-        let t1 = (self.max - origin) * inv_dir;
-        let near = t0.min(t1).max_element();
-        let far = t0.max(t1).min_element();
-        let near = if near > 0.0 { near } else { 0.0 };
-        let far = if far < t_max { far } else { t_max };
-        near <= far
-    }
-}
-
-/// Half the surface area of the box around `spheres` (boxes padded as the tree pads them):
+/// Half the surface area of the box around `items` (each box padded as its shape pads it):
 /// how likely a ray is to enter it. The scene uses it to find huge spheres.
-pub(crate) fn half_area_around(spheres: &[Sphere]) -> Real {
-    spheres.iter().map(Aabb::of_sphere).fold(Aabb::EMPTY, Aabb::union).half_area()
+pub(crate) fn half_area_around<T: Bounded>(items: &[T]) -> Real {
+    items.iter().map(Bounded::bounds).fold(Aabb::EMPTY, Aabb::union).half_area()
 }
 
 /// One node of the flattened tree.
@@ -109,15 +58,16 @@ pub struct Bvh {
 }
 
 impl Bvh {
-    /// Builds the hierarchy, reordering `spheres` so that each leaf's spheres are contiguous.
-    pub fn build(spheres: &mut [Sphere]) -> Bvh {
+    /// Builds the hierarchy, reordering `spheres` (or any [`Bounded`] items: triangles,
+    /// objects) so that each leaf's items are contiguous.
+    pub fn build<T: Bounded>(spheres: &mut [T]) -> Bvh {
         Bvh::build_with_leaves(spheres, 1)
     }
 
     /// Builds the hierarchy with every group of at most `leaf` spheres (1 to 4) kept in one
     /// leaf: for the four-wide tree, whose leaves test four spheres in one go, a leaf of four
     /// costs about what a leaf of one does.
-    pub fn build_with_leaves(spheres: &mut [Sphere], leaf: usize) -> Bvh {
+    pub fn build_with_leaves<T: Bounded>(spheres: &mut [T], leaf: usize) -> Bvh {
         assert!((1..=MAX_LEAF).contains(&leaf), "leaves of 1 to {MAX_LEAF} spheres");
         let mut nodes = Vec::with_capacity(2 * spheres.len() / leaf + 1);
         if !spheres.is_empty() {
@@ -164,16 +114,16 @@ impl Bvh {
     }
 
     /// The closest sphere hit before `t_max`, as found by `test` (normally
-    /// [`Sphere::intersect`]): `(index into spheres, t)`. Of two spheres hit at exactly the
+    /// [`Sphere::intersect`](crate::tracer::geometry::sphere::Sphere::intersect)): `(index into spheres, t)`. Of two spheres hit at exactly the
     /// same distance, the one with the lower index is reported, as testing every sphere in
     /// order would.
     #[inline]
-    pub fn hit(
+    pub fn hit<T>(
         &self,
-        spheres: &[Sphere],
+        spheres: &[T],
         ray: &Ray,
         t_max: Real,
-        test: impl Fn(&Sphere, &Ray, Real) -> Option<Real>,
+        test: impl Fn(&T, &Ray, Real) -> Option<Real>,
     ) -> Option<(usize, Real)> {
         let inv_dir = ray.dir.recip();
         let from_negative = [ray.dir.x < 0.0, ray.dir.y < 0.0, ray.dir.z < 0.0];
@@ -215,8 +165,8 @@ impl Bvh {
 
 /// Builds the subtree over `spheres` (which start at index `first` of the scene's array) at
 /// `depth`, appending its nodes depth-first: the subtree's root is the first node appended.
-fn build_node(spheres: &mut [Sphere], first: usize, depth: usize, leaf: usize, nodes: &mut Vec<Node>) {
-    let bounds = spheres.iter().map(Aabb::of_sphere).fold(Aabb::EMPTY, Aabb::union);
+fn build_node<T: Bounded>(spheres: &mut [T], first: usize, depth: usize, leaf: usize, nodes: &mut Vec<Node>) {
+    let bounds = spheres.iter().map(Bounded::bounds).fold(Aabb::EMPTY, Aabb::union);
     let at = nodes.len();
     nodes.push(Node { bounds, index: first as u32, count: spheres.len() as u16, axis: 0 });
     let split = if depth < SAH_DEPTH { choose_split(spheres, &bounds, leaf) } else { median_split(spheres) };
@@ -230,25 +180,25 @@ fn build_node(spheres: &mut [Sphere], first: usize, depth: usize, leaf: usize, n
 }
 
 /// Halves `spheres` at the median centre along their widest axis; `None` for a leaf.
-fn median_split(spheres: &mut [Sphere]) -> Option<(usize, usize)> {
+fn median_split<T: Bounded>(spheres: &mut [T]) -> Option<(usize, usize)> {
     if spheres.len() <= MAX_LEAF {
         return None;
     }
-    let centroids = spheres.iter().fold(Aabb::EMPTY, |b, s| b.grow(s.center));
+    let centroids = spheres.iter().fold(Aabb::EMPTY, |b, s| b.grow(s.centroid()));
     let axis = (centroids.max - centroids.min).max_position();
     let mid = spheres.len() / 2;
-    spheres.select_nth_unstable_by(mid, |a, b| a.center[axis].total_cmp(&b.center[axis]));
+    spheres.select_nth_unstable_by(mid, |a, b| a.centroid()[axis].total_cmp(&b.centroid()[axis]));
     Some((axis, mid))
 }
 
 /// The best SAH split as `(axis, number of spheres on the left)`, having partitioned
 /// `spheres` accordingly; `None` when a leaf is the better choice.
-fn choose_split(spheres: &mut [Sphere], bounds: &Aabb, leaf: usize) -> Option<(usize, usize)> {
+fn choose_split<T: Bounded>(spheres: &mut [T], bounds: &Aabb, leaf: usize) -> Option<(usize, usize)> {
     let n = spheres.len();
     if n <= 1 {
         return None;
     }
-    let centroids = spheres.iter().fold(Aabb::EMPTY, |b, s| b.grow(s.center));
+    let centroids = spheres.iter().fold(Aabb::EMPTY, |b, s| b.grow(s.centroid()));
     let extent = centroids.max - centroids.min;
     let axis = if extent.x >= extent.y && extent.x >= extent.z {
         0
@@ -262,11 +212,11 @@ fn choose_split(spheres: &mut [Sphere], bounds: &Aabb, leaf: usize) -> Option<(u
         // Every centre coincides: nothing separates them. Fine unless the leaf is huge.
         return (n > MAX_LEAF * 4).then_some((axis, n / 2));
     }
-    let bin_of = |s: &Sphere| (((s.center[axis] - low) / width * BINS as Real) as usize).min(BINS - 1);
+    let bin_of = |s: &T| (((s.centroid()[axis] - low) / width * BINS as Real) as usize).min(BINS - 1);
     let mut bins = [(Aabb::EMPTY, 0usize); BINS];
     for s in spheres.iter() {
         let b = &mut bins[bin_of(s)];
-        *b = (b.0.union(Aabb::of_sphere(s)), b.1 + 1);
+        *b = (b.0.union(s.bounds()), b.1 + 1);
     }
     // Cost of splitting after bin i, from a right-to-left then a left-to-right sweep.
     let mut right_cost = [0.0; BINS];
@@ -302,7 +252,7 @@ fn choose_split(spheres: &mut [Sphere], bounds: &Aabb, leaf: usize) -> Option<(u
 }
 
 /// Moves the spheres satisfying `left` to the front; returns how many there are.
-fn partition(spheres: &mut [Sphere], left: impl Fn(&Sphere) -> bool) -> usize {
+fn partition<T>(spheres: &mut [T], left: impl Fn(&T) -> bool) -> usize {
     let mut mid = 0;
     for i in 0..spheres.len() {
         if left(&spheres[i]) {

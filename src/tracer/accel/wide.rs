@@ -93,8 +93,19 @@ impl WideBvh {
     /// assert_eq!((balls[index].center.x, t), (0.0, 4.0), "the first ball, 4 units away");
     /// ```
     pub fn collapse(binary: &Bvh, spheres: &[Sphere], first: usize) -> WideBvh {
-        let mut wide =
-            WideBvh { nodes: Vec::new(), packets: Vec::new(), packet_of: vec![0; spheres.len()], first };
+        WideBvh::collapse_items(binary, spheres.len(), Some(spheres), first)
+    }
+
+    /// Collapses `binary`, built over `count` items of any kind (triangles, objects), into a
+    /// four-wide hierarchy without sphere packets: searched with [`WideBvh::intersect_each`]
+    /// or [`WideBvh::traverse`].
+    pub fn collapse_plain(binary: &Bvh, count: usize) -> WideBvh {
+        WideBvh::collapse_items(binary, count, None, 0)
+    }
+
+    fn collapse_items(binary: &Bvh, count: usize, spheres: Option<&[Sphere]>, first: usize) -> WideBvh {
+        let packet_of = if spheres.is_some() { vec![0; count] } else { Vec::new() };
+        let mut wide = WideBvh { nodes: Vec::new(), packets: Vec::new(), packet_of, first };
         if binary.node_count() > 0 {
             let root = wide.child(binary, spheres, first, 0);
             if root & LEAF != 0 {
@@ -107,7 +118,7 @@ impl WideBvh {
     }
 
     /// The wide child for binary node `at`: a leaf slot for a leaf, a collapsed node otherwise.
-    fn child(&mut self, binary: &Bvh, spheres: &[Sphere], first: usize, at: usize) -> u32 {
+    fn child(&mut self, binary: &Bvh, spheres: Option<&[Sphere]>, first: usize, at: usize) -> u32 {
         if let Some(range) = binary.leaf(at) {
             if range.len() <= LANES {
                 return self.leaf(spheres, first, range);
@@ -144,10 +155,13 @@ impl WideBvh {
         node as u32
     }
 
-    /// The slot of a leaf of `spheres[range]` (1 to [`LANES`] of them), with its packet made.
-    fn leaf(&mut self, spheres: &[Sphere], first: usize, range: Range<usize>) -> u32 {
-        self.packet_of[range.start] = self.packets.len() as u32;
-        self.packets.push(Packet::new(&spheres[range.clone()], first + range.start));
+    /// The slot of a leaf of items `range` (1 to [`LANES`] of them), with its packet made
+    /// when they are spheres.
+    fn leaf(&mut self, spheres: Option<&[Sphere]>, first: usize, range: Range<usize>) -> u32 {
+        if let Some(spheres) = spheres {
+            self.packet_of[range.start] = self.packets.len() as u32;
+            self.packets.push(Packet::new(&spheres[range.clone()], first + range.start));
+        }
         leaf_slot(first + range.start, range.len())
     }
 
@@ -161,23 +175,25 @@ impl WideBvh {
     }
 
     /// Offers every sphere the ray may hit before `closest.t` to `closest`, testing whole
-    /// packets with [`Packet::intersect`].
+    /// packets with [`Packet::intersect`] (a tree made by [`WideBvh::collapse`] only).
     #[inline]
     pub fn intersect(&self, ray: &Ray, closest: &mut Closest) {
+        debug_assert!(!self.packet_of.is_empty(), "a tree of spheres");
         self.traverse(ray, closest, |leaf, closest| {
             let packet = self.packet_of[leaf.start - self.first] as usize;
             self.packets[packet].intersect(ray, closest);
         });
     }
 
-    /// The same traversal with `test` (e.g. the book's sphere test) applied to each sphere of
-    /// a leaf in turn.
-    pub fn intersect_each(
+    /// The same traversal with `test` (e.g. the book's sphere test, or a triangle's) applied
+    /// to each item of a leaf in turn.
+    #[inline]
+    pub fn intersect_each<T>(
         &self,
-        spheres: &[Sphere],
+        spheres: &[T],
         ray: &Ray,
         closest: &mut Closest,
-        test: impl Fn(&Sphere, &Ray, Real) -> Option<Real>,
+        test: impl Fn(&T, &Ray, Real) -> Option<Real>,
     ) {
         self.traverse(ray, closest, |leaf, closest| {
             for (i, sphere) in leaf.clone().zip(&spheres[leaf]) {
@@ -188,8 +204,16 @@ impl WideBvh {
         });
     }
 
+    /// Visits, nearest first, every leaf whose box the ray enters before `closest.t`, handing
+    /// `leaf` the range of items it holds; `leaf` offers its hits to `closest`, which prunes
+    /// what is left.
     #[inline(always)]
-    fn traverse(&self, ray: &Ray, closest: &mut Closest, mut leaf: impl FnMut(Range<usize>, &mut Closest)) {
+    pub fn traverse(
+        &self,
+        ray: &Ray,
+        closest: &mut Closest,
+        mut leaf: impl FnMut(Range<usize>, &mut Closest),
+    ) {
         if self.nodes.is_empty() {
             return;
         }

@@ -20,6 +20,11 @@ pub struct Hit {
     pub material: u32,
     /// How far off the surface a new ray must start to never re-hit it by rounding error.
     pub offset: Real,
+    /// Surface coordinates for textures, each in `[0, 1]` (0 where no texture can look: the
+    /// sphere-only scenes never compute them).
+    pub u: Real,
+    /// See [`Hit::u`].
+    pub v: Real,
 }
 
 /// The closest hit found so far: distance and sphere index. Ties in distance go to the

@@ -1,6 +1,10 @@
 //! **Geometry**: the shapes rays meet, each in a file of its own with its robust ray test, and
-//! [`hit`], what every test reports. Spheres now; quads, triangles, meshes, instances and
-//! media will each be a new file here.
+//! [`hit`], what every test reports: [`sphere`]s, [`moving`] spheres (motion blur), the second
+//! book's [`quad`]s (and boxes of six), and [`triangle`]s (the watertight test meshes use).
+//! What is built from them (meshes, instances, media) is the `world` room's.
 
 pub mod hit;
 pub mod sphere;
+pub mod moving;
+pub mod quad;
+pub mod triangle;

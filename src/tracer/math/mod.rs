@@ -1,7 +1,10 @@
 //! **Numbers and rays**, the floor every other room stands on: the scalar and vector types
 //! ([`real`], f32 by default, f64 with the `f64` feature), angles as fractions of a turn
-//! ([`turn`]), and the [`ray`].
+//! ([`turn`]), the [`ray`], axis-aligned boxes ([`aabb`]) and rigid placements
+//! ([`transform`]).
 
 pub mod real;
 pub mod turn;
 pub mod ray;
+pub mod aabb;
+pub mod transform;

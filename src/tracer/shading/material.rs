@@ -4,12 +4,19 @@
 //! 16-byte vector, a number and the tag), matching on it costs a
 //! predictable branch, and a scene without glass never executes a line of the glass code.
 //! Every scattered direction is a unit vector and every attenuation is finite.
+//!
+//! The second book's materials join the first's: a textured diffuse surface (its colour from
+//! the scene's [`Textures`]), a light (`diffuse_light`: it emits from its front face only, the
+//! third book's convention, and scatters nothing) and the isotropic phase function of fog and
+//! smoke. A sphere-only scene of the first book's materials never reaches their arms: the
+//! render loop it runs does not even ask for emission (`render.rs`).
 
 use rand::Rng;
 
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::warp::{random_unit_vector, uniform};
+use crate::tracer::shading::texture::Textures;
 
 /// A surface's material, as in *Ray Tracing in One Weekend*.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -31,6 +38,21 @@ pub enum Material {
         /// Refractive index relative to the surrounding medium (glass ≈ 1.5).
         ior: Real,
     },
+    /// Ideal diffuse with its colour from a texture.
+    Textured {
+        /// Index into the scene's [`Textures`].
+        texture: u32,
+    },
+    /// A light: emits `emit` from its front face, absorbs whatever arrives.
+    DiffuseLight {
+        /// Emitted radiance, linear RGB.
+        emit: Vec3,
+    },
+    /// The phase function of a participating medium: scatters into every direction alike.
+    Isotropic {
+        /// Fraction of light scattered (not absorbed), per channel.
+        albedo: Vec3,
+    },
 }
 
 /// A scattered ray's direction and how much of the light it carries back.
@@ -46,15 +68,23 @@ impl Material {
     /// Scatters a ray arriving along the unit vector `incoming` at `hit`; `None` = absorbed.
     /// Forced inline into the render loop: left to the compiler it became a call once the
     /// sphere warp's sine and cosine were inlined, and `final` took 2.6% more instructions.
+    /// `textures` is only read by [`Material::Textured`].
     #[inline(always)]
-    pub fn scatter<R: Rng + ?Sized>(&self, incoming: Vec3, hit: &Hit, rng: &mut R) -> Option<Scatter> {
+    pub fn scatter<R: Rng + ?Sized>(
+        &self,
+        incoming: Vec3,
+        hit: &Hit,
+        textures: &Textures,
+        rng: &mut R,
+    ) -> Option<Scatter> {
         match *self {
-            Material::Lambertian { albedo } => {
-                let direction = (hit.normal + random_unit_vector(rng))
-                    .try_normalize()
-                    // The random vector can cancel the normal: fall back to the normal itself.
-                    .unwrap_or(hit.normal);
-                Some(Scatter { attenuation: albedo, direction })
+            Material::Lambertian { albedo } => Some(diffuse(albedo, hit, rng)),
+            Material::Textured { texture } => {
+                Some(diffuse(textures.value(texture, hit.u, hit.v, hit.point), hit, rng))
+            }
+            Material::DiffuseLight { .. } => None,
+            Material::Isotropic { albedo } => {
+                Some(Scatter { attenuation: albedo, direction: random_unit_vector(rng) })
             }
             Material::Metal { albedo, fuzz } => {
                 let mirror = reflect(incoming, hit.normal);
@@ -75,6 +105,34 @@ impl Material {
             }
         }
     }
+}
+
+impl Material {
+    /// The light this material emits at `hit`: a light's `emit` on its front face, black
+    /// everywhere else.
+    #[inline]
+    pub fn emitted(&self, hit: &Hit) -> Vec3 {
+        match *self {
+            Material::DiffuseLight { emit } if hit.front_face => emit,
+            _ => Vec3::ZERO,
+        }
+    }
+
+    /// Whether the first book's render loop handles this material (no texture, no light, no
+    /// medium).
+    pub fn is_first_book(&self) -> bool {
+        matches!(self, Material::Lambertian { .. } | Material::Metal { .. } | Material::Dielectric { .. })
+    }
+}
+
+/// The Lambertian scatter: around the normal with a cosine distribution.
+#[inline(always)]
+fn diffuse<R: Rng + ?Sized>(albedo: Vec3, hit: &Hit, rng: &mut R) -> Scatter {
+    let direction = (hit.normal + random_unit_vector(rng))
+        .try_normalize()
+        // The random vector can cancel the normal: fall back to the normal itself.
+        .unwrap_or(hit.normal);
+    Scatter { attenuation: albedo, direction }
 }
 
 /// Mirror reflection of `v` about the unit normal `n`: `v − 2(v·n)n`.

@@ -1,6 +1,8 @@
-//! **Shading**: what light does where a ray ends. A [`material`] scatters (or absorbs) a ray
-//! at a hit; the [`background`] is what a ray that escapes sees. Textures and lights will be
-//! files here.
+//! **Shading**: what light does where a ray ends. A [`material`] scatters (or absorbs, or
+//! emits) at a hit; a [`texture`] gives a surface its colour (the marble's from [`perlin`]
+//! noise); the [`background`] is what a ray that escapes sees.
 
+pub mod perlin;
+pub mod texture;
 pub mod material;
 pub mod background;

@@ -1,0 +1,446 @@
+//! The second book's shapes as a scene file writes them: `[[quad]]`, `[[box]]`,
+//! `[[triangle]]`, `[[mesh]]`, `[[medium]]` and `[[group]]` (objects placed together by one
+//! transform, the scene file's instances), their checks, and the objects they become.
+//!
+//! ```toml
+//! [[quad]]
+//! q = [555.0, 0.0, 0.0]
+//! u = [0.0, 555.0, 0.0]
+//! v = [0.0, 0.0, 555.0]
+//! material = "green"
+//!
+//! [[box]]
+//! min = [0.0, 0.0, 0.0]
+//! max = [165.0, 330.0, 165.0]
+//! material = "white"
+//! transform = { rotate_y = 15.0, translate = [265.0, 0.0, 295.0] }
+//!
+//! [[medium]]
+//! density = 0.01
+//! albedo = [0.0, 0.0, 0.0]
+//! boundary = { kind = "box", min = [0.0, 0.0, 0.0], max = [165.0, 330.0, 165.0] }
+//!
+//! [[mesh]]
+//! obj = "bunny.obj"     # beside the scene file; or: generate = { kind = "terrain", … }
+//! material = "white"
+//! ```
+
+use serde::{Deserialize, Serialize};
+
+use crate::scenes::assets::{Assets, GeneratedMesh};
+use crate::scenes::looks::{Looks, MaterialRef, Tables, check, colour};
+use crate::tracer::geometry::moving::MovingSphere;
+use crate::tracer::geometry::quad::{Quad, box_faces};
+use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::geometry::triangle;
+use crate::tracer::math::real::{Real, Vec3, vec3};
+use crate::tracer::math::transform::Transform;
+use crate::tracer::shading::material::Material;
+use crate::tracer::world::group::Group;
+use crate::tracer::world::instance::Instance;
+use crate::tracer::world::medium::Medium;
+use crate::tracer::world::object::Object;
+
+/// One `[[sphere]]` table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereSpec {
+    /// Centre (at time 0, if it moves).
+    pub center: [f64; 3],
+    /// Radius, non-zero; negative for a hollow shell.
+    pub radius: f64,
+    /// Inline material or the name of one in `[materials]`.
+    pub material: MaterialRef,
+    /// Centre at time 1: the sphere moves while the shutter is open (motion blur).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub center1: Option<[f64; 3]>,
+}
+
+/// One `[[quad]]`: the parallelogram `q + α·u + β·v`, facing `u × v`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuadSpec {
+    /// A corner.
+    pub q: [f64; 3],
+    /// First edge.
+    pub u: [f64; 3],
+    /// Second edge.
+    pub v: [f64; 3],
+    /// Its material.
+    pub material: MaterialRef,
+}
+
+/// One `[[box]]`: six quads between two opposite corners, optionally placed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxSpec {
+    /// One corner.
+    pub min: [f64; 3],
+    /// The opposite corner.
+    pub max: [f64; 3],
+    /// Its material.
+    pub material: MaterialRef,
+    /// Where it is placed (as an instance).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformSpec>,
+}
+
+/// One `[[triangle]]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TriangleSpec {
+    /// Its three corners, counter-clockwise seen from its front.
+    pub vertices: [[f64; 3]; 3],
+    /// Its material.
+    pub material: MaterialRef,
+}
+
+/// One `[[mesh]]`: a Wavefront OBJ file beside the scene file, or a mesh raypool generates.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSpec {
+    /// The OBJ file, relative to the scene file's folder and inside it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obj: Option<String>,
+    /// A generated mesh instead of a file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub generate: Option<GeneratedMesh>,
+    /// Multiplies every vertex when the mesh is loaded (default 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
+    /// Its material.
+    pub material: MaterialRef,
+    /// Where it is placed (as an instance).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformSpec>,
+}
+
+/// One `[[medium]]`: fog or smoke of constant density inside a closed boundary.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MediumSpec {
+    /// Scattering events per unit length, ≥ 0.
+    pub density: f64,
+    /// Fraction scattered per channel (the rest absorbed), each ≥ 0.
+    pub albedo: [f64; 3],
+    /// The closed surface it fills.
+    pub boundary: BoundarySpec,
+    /// Where it is placed (as an instance).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformSpec>,
+}
+
+/// A medium's boundary.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum BoundarySpec {
+    /// A sphere.
+    Sphere {
+        /// Centre.
+        center: [f64; 3],
+        /// Radius, > 0.
+        radius: f64,
+    },
+    /// A box.
+    Box {
+        /// One corner.
+        min: [f64; 3],
+        /// The opposite corner.
+        max: [f64; 3],
+    },
+}
+
+/// A rigid placement: rotations about x, then y, then z (degrees), then a translation.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransformSpec {
+    /// Degrees about x.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rotate_x: f64,
+    /// Degrees about y (the books' `rotate_y`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rotate_y: f64,
+    /// Degrees about z.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rotate_z: f64,
+    /// Moved by this, last.
+    #[serde(default, skip_serializing_if = "is_origin")]
+    pub translate: [f64; 3],
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
+}
+
+fn is_origin(v: &[f64; 3]) -> bool {
+    *v == [0.0; 3]
+}
+
+/// One `[[group]]`: objects placed together by one transform (one instance). Its shapes are
+/// written as at the top level, `[[group.sphere]]` and so on (no nested groups).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GroupSpec {
+    /// Where the group is placed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<TransformSpec>,
+    /// `[[group.sphere]]` tables.
+    #[serde(default, rename = "sphere", skip_serializing_if = "Vec::is_empty")]
+    pub spheres: Vec<SphereSpec>,
+    /// `[[group.quad]]` tables.
+    #[serde(default, rename = "quad", skip_serializing_if = "Vec::is_empty")]
+    pub quads: Vec<QuadSpec>,
+    /// `[[group.box]]` tables.
+    #[serde(default, rename = "box", skip_serializing_if = "Vec::is_empty")]
+    pub boxes: Vec<BoxSpec>,
+    /// `[[group.triangle]]` tables.
+    #[serde(default, rename = "triangle", skip_serializing_if = "Vec::is_empty")]
+    pub triangles: Vec<TriangleSpec>,
+    /// `[[group.mesh]]` tables.
+    #[serde(default, rename = "mesh", skip_serializing_if = "Vec::is_empty")]
+    pub meshes: Vec<MeshSpec>,
+    /// `[[group.medium]]` tables.
+    #[serde(default, rename = "medium", skip_serializing_if = "Vec::is_empty")]
+    pub media: Vec<MediumSpec>,
+}
+
+impl GroupSpec {
+    /// Its shape lists.
+    pub fn shapes(&self) -> Shapes<'_> {
+        Shapes {
+            spheres: &self.spheres,
+            quads: &self.quads,
+            boxes: &self.boxes,
+            triangles: &self.triangles,
+            meshes: &self.meshes,
+            media: &self.media,
+        }
+    }
+}
+
+/// The lists of shapes a scene or a group holds, as the checks and the build read them.
+#[derive(Clone, Copy, Debug)]
+pub struct Shapes<'a> {
+    /// `[[sphere]]` tables.
+    pub spheres: &'a [SphereSpec],
+    /// `[[quad]]` tables.
+    pub quads: &'a [QuadSpec],
+    /// `[[box]]` tables.
+    pub boxes: &'a [BoxSpec],
+    /// `[[triangle]]` tables.
+    pub triangles: &'a [TriangleSpec],
+    /// `[[mesh]]` tables.
+    pub meshes: &'a [MeshSpec],
+    /// `[[medium]]` tables.
+    pub media: &'a [MediumSpec],
+}
+
+/// A finite `[x, y, z]`.
+pub fn finite3(v: [f64; 3]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+impl TransformSpec {
+    fn check(&self) -> Result<(), String> {
+        let angles = [self.rotate_x, self.rotate_y, self.rotate_z];
+        check(angles.iter().all(|a| a.is_finite()) && finite3(self.translate), || {
+            format!("transform must be finite numbers, got {self:?}")
+        })
+    }
+
+    /// The tracer's transform.
+    pub fn to_transform(&self) -> Transform {
+        Transform::rotate_x(self.rotate_x)
+            .then(&Transform::rotate_y(self.rotate_y))
+            .then(&Transform::rotate_z(self.rotate_z))
+            .then_translate(vec3(self.translate))
+    }
+}
+
+impl<'a> Shapes<'a> {
+    /// Checks every shape; `at` names where they are (`""` or `"group #2 "`).
+    pub fn check(self, looks: &Looks, at: &str) -> Result<(), String> {
+        for (i, s) in self.spheres.iter().enumerate() {
+            let name = format!("{at}sphere #{} (center {:?})", i + 1, s.center);
+            check(finite3(s.center), || format!("{at}sphere #{}: center must be finite numbers", i + 1))?;
+            check(s.radius.is_finite() && s.radius != 0.0, || {
+                format!("{name}: radius must be finite and non-zero, got {}", s.radius)
+            })?;
+            check(s.center1.is_none_or(finite3), || format!("{name}: center1 must be finite numbers"))?;
+            looks.check_material(&s.material).map_err(|e| format!("{name}: {e}"))?;
+        }
+        for (i, q) in self.quads.iter().enumerate() {
+            let name = format!("{at}quad #{}", i + 1);
+            check(finite3(q.q) && finite3(q.u) && finite3(q.v), || {
+                format!("{name}: q, u, v must be finite numbers")
+            })?;
+            check(Quad::new(vec3(q.q), vec3(q.u), vec3(q.v), 0).is_some(), || {
+                format!("{name}: degenerate (u = {:?} and v = {:?} span no area)", q.u, q.v)
+            })?;
+            looks.check_material(&q.material).map_err(|e| format!("{name}: {e}"))?;
+        }
+        for (i, b) in self.boxes.iter().enumerate() {
+            let name = format!("{at}box #{}", i + 1);
+            check_box(b.min, b.max).map_err(|e| format!("{name}: {e}"))?;
+            b.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
+            looks.check_material(&b.material).map_err(|e| format!("{name}: {e}"))?;
+        }
+        for (i, t) in self.triangles.iter().enumerate() {
+            let name = format!("{at}triangle #{}", i + 1);
+            check(t.vertices.iter().all(|&v| finite3(v)), || {
+                format!("{name}: vertices must be finite numbers")
+            })?;
+            check(!triangle::degenerate(t.vertices.map(vec3)), || {
+                format!("{name}: degenerate (its vertices {:?} span no area)", t.vertices)
+            })?;
+            looks.check_material(&t.material).map_err(|e| format!("{name}: {e}"))?;
+        }
+        for (i, m) in self.meshes.iter().enumerate() {
+            let name = format!("{at}mesh #{}", i + 1);
+            check(m.obj.is_some() != m.generate.is_some(), || {
+                format!("{name}: needs exactly one of obj and generate")
+            })?;
+            if let Some(g) = &m.generate {
+                g.check().map_err(|e| format!("{name}: {e}"))?;
+            }
+            check(m.scale.is_none_or(|s| s.is_finite() && s > 0.0), || {
+                format!("{name}: scale must be finite and > 0")
+            })?;
+            m.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
+            looks.check_material(&m.material).map_err(|e| format!("{name}: {e}"))?;
+        }
+        for (i, m) in self.media.iter().enumerate() {
+            let name = format!("{at}medium #{}", i + 1);
+            check(m.density.is_finite() && m.density >= 0.0, || {
+                format!("{name}: density must be finite and ≥ 0, got {}", m.density)
+            })?;
+            colour(m.albedo).map_err(|e| format!("{name}: albedo {e}"))?;
+            match m.boundary {
+                BoundarySpec::Sphere { center, radius } => {
+                    check(finite3(center) && radius.is_finite() && radius > 0.0, || {
+                        format!("{name}: a boundary sphere needs a finite centre and a radius > 0")
+                    })?
+                }
+                BoundarySpec::Box { min, max } => {
+                    check_box(min, max).map_err(|e| format!("{name}: boundary {e}"))?
+                }
+            }
+            m.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
+        }
+        Ok(())
+    }
+
+    /// Every shape's material reference, in order.
+    pub fn material_refs(self) -> impl Iterator<Item = &'a MaterialRef> {
+        let s = self.spheres.iter().map(|x| &x.material);
+        let q = self.quads.iter().map(|x| &x.material);
+        let b = self.boxes.iter().map(|x| &x.material);
+        let t = self.triangles.iter().map(|x| &x.material);
+        s.chain(q).chain(b).chain(t).chain(self.meshes.iter().map(|x| &x.material))
+    }
+
+    /// Whether there is nothing but static spheres.
+    pub fn only_still_spheres(self) -> bool {
+        self.spheres.iter().all(|s| s.center1.is_none())
+            && self.quads.is_empty()
+            && self.boxes.is_empty()
+            && self.triangles.is_empty()
+            && self.meshes.is_empty()
+            && self.media.is_empty()
+    }
+
+    /// The (checked) shapes as static spheres and objects, their materials added to `tables`;
+    /// `media` counts the media made so far (each gets its own id).
+    pub fn build(
+        self,
+        looks: &Looks,
+        assets: &Assets,
+        tables: &mut Tables,
+        media: &mut u32,
+    ) -> (Vec<Sphere>, Vec<Object>) {
+        let mut material = |m: &MaterialRef| tables.material(looks, assets, m);
+        let mut spheres = Vec::new();
+        let mut objects = Vec::new();
+        for s in self.spheres {
+            let (center, radius, material) = (vec3(s.center), s.radius as Real, material(&s.material));
+            match s.center1 {
+                None => spheres.push(Sphere { center, radius, material }),
+                Some(c1) => objects.push(Object::Moving(MovingSphere {
+                    center0: center,
+                    center1: vec3(c1),
+                    radius,
+                    material,
+                })),
+            }
+        }
+        for q in self.quads {
+            let quad = Quad::new(vec3(q.q), vec3(q.u), vec3(q.v), material(&q.material))
+                .expect("checked: not degenerate");
+            objects.push(Object::Quad(quad));
+        }
+        for b in self.boxes {
+            let faces = box_objects(b.min, b.max, material(&b.material));
+            objects.extend(placed(faces, b.transform.as_ref()));
+        }
+        if !self.triangles.is_empty() {
+            // Loose triangles: one mesh per material, in the order written.
+            let mut by_material: Vec<(u32, Vec<Vec3>)> = Vec::new();
+            for t in self.triangles {
+                let m = material(&t.material);
+                let at = by_material.iter().position(|(k, _)| *k == m).unwrap_or_else(|| {
+                    by_material.push((m, Vec::new()));
+                    by_material.len() - 1
+                });
+                by_material[at].1.extend(t.vertices.map(vec3));
+            }
+            for (m, corners) in by_material {
+                objects.push(Object::Mesh(std::sync::Arc::new(assets.soup(corners)), m));
+            }
+        }
+        for m in self.meshes {
+            let mesh = assets.mesh(m);
+            let object = Object::Mesh(mesh, material(&m.material));
+            objects.extend(placed(vec![object], m.transform.as_ref()));
+        }
+        for m in self.media {
+            let boundary = match m.boundary {
+                BoundarySpec::Sphere { center, radius } => {
+                    vec![Object::Sphere(Sphere { center: vec3(center), radius: radius as Real, material: 0 })]
+                }
+                BoundarySpec::Box { min, max } => box_objects(min, max, 0),
+            };
+            let phase = tables.push(Material::Isotropic { albedo: vec3(m.albedo) });
+            let medium = Medium {
+                boundary: Group::new(boundary),
+                density: m.density as Real,
+                material: phase,
+                id: *media,
+            };
+            *media += 1;
+            objects.extend(placed(vec![Object::Medium(Box::new(medium))], m.transform.as_ref()));
+        }
+        (spheres, objects)
+    }
+}
+
+fn check_box(min: [f64; 3], max: [f64; 3]) -> Result<(), String> {
+    check(finite3(min) && finite3(max), || "min and max must be finite numbers".to_owned())?;
+    check((0..3).all(|k| min[k] != max[k]), || {
+        format!("degenerate: min {min:?} and max {max:?} span no volume")
+    })
+}
+
+fn box_objects(min: [f64; 3], max: [f64; 3], material: u32) -> Vec<Object> {
+    let faces = box_faces(vec3(min), vec3(max), material).expect("checked: a box of some volume");
+    faces.into_iter().map(Object::Quad).collect()
+}
+
+/// `objects` placed by `transform` as one instance (as they are, without one).
+pub fn placed(objects: Vec<Object>, transform: Option<&TransformSpec>) -> Vec<Object> {
+    match transform.map(TransformSpec::to_transform) {
+        Some(t) if !t.is_identity() => {
+            vec![Object::Instance(Box::new(Instance::new(t, Group::new(objects))))]
+        }
+        _ => objects,
+    }
+}

@@ -1,0 +1,143 @@
+//! The second book's parallelogram ("quad"): a corner `q` and two edge vectors `u` and `v`.
+//! Boxes are six of them.
+//!
+//! The test is the book's (the plane, then the hit's coordinates `α`, `β` along `u` and `v`),
+//! made robust the way the sphere's is:
+//!
+//! - the distance is `n·(q − o) / n·d`, the difference taken first, so a ray leaving a quad
+//!   far from the origin does not lose its digits to `n·q − n·o` (two large, nearly equal
+//!   numbers);
+//! - the hit point is re-projected onto the quad, `q + α·u + β·v`, and new rays start a few
+//!   ulps of the quad's own magnitude off it ([`Quad::spawn_offset`]);
+//! - `α` and `β` are accepted a few ulps past `[0, 1]` ([`EDGE`]), so a ray aimed exactly at
+//!   the edge two faces of a box share is caught by at least one of them.
+
+use crate::tracer::geometry::hit::Hit;
+use crate::tracer::math::aabb::{Aabb, Bounded};
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::{Real, Vec3};
+
+/// How far past its edges, in units of the edge vectors, a quad still counts a hit: a few
+/// roundings of `α` and `β`, so that neighbours overlap by a hair instead of leaving a crack.
+pub const EDGE: Real = 16.0 * Real::EPSILON;
+
+/// A parallelogram `q + α·u + β·v`, `α, β ∈ [0, 1]`; its front faces `u × v`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Quad {
+    /// A corner.
+    pub q: Vec3,
+    /// First edge vector, from `q`.
+    pub u: Vec3,
+    /// Second edge vector, from `q`.
+    pub v: Vec3,
+    /// `(u × v) / |u × v|²`: turns a point of the plane into `(α, β)`.
+    w: Vec3,
+    /// Unit normal, `u × v` normalised.
+    normal: Vec3,
+    /// Index into the scene's material table.
+    pub material: u32,
+}
+
+impl Quad {
+    /// The quad at corner `q` with edges `u` and `v`; `None` when it is degenerate (an edge of
+    /// length zero, parallel edges, or numbers that are not finite).
+    ///
+    /// ```
+    /// use raypool::tracer::geometry::quad::Quad;
+    /// use raypool::tracer::math::real::Vec3;
+    /// assert!(Quad::new(Vec3::ZERO, Vec3::X, Vec3::X, 0).is_none(), "parallel edges");
+    /// let square = Quad::new(Vec3::ZERO, Vec3::X, Vec3::Y, 0).unwrap();
+    /// assert_eq!(square.normal(), Vec3::Z);
+    /// ```
+    pub fn new(q: Vec3, u: Vec3, v: Vec3, material: u32) -> Option<Quad> {
+        let n = u.cross(v);
+        let finite = q.is_finite() && u.is_finite() && v.is_finite() && n.is_finite();
+        let area2 = n.length_squared();
+        if !finite || !(area2 > 0.0) || !area2.is_finite() {
+            return None;
+        }
+        Some(Quad { q, u, v, w: n / area2, normal: n / area2.sqrt(), material })
+    }
+
+    /// The unit normal the quad's front faces.
+    pub fn normal(&self) -> Vec3 {
+        self.normal
+    }
+
+    /// The distance to the hit in `(0, t_max)` and its `(α, β)`, if any.
+    #[inline]
+    pub fn intersect(&self, ray: &Ray, t_max: Real) -> Option<(Real, Real, Real)> {
+        let denom = self.normal.dot(ray.dir);
+        let to_corner = self.q - ray.origin;
+        let t = self.normal.dot(to_corner) / denom;
+        // A ray parallel to the plane gives ±∞ or NaN, which fails this test too.
+        if !(t > 0.0 && t < t_max) {
+            return None;
+        }
+        let planar = t * ray.dir - to_corner;
+        let alpha = self.w.dot(planar.cross(self.v));
+        let beta = self.w.dot(self.u.cross(planar));
+        let inside = |x: Real| (-EDGE..=1.0 + EDGE).contains(&x);
+        (inside(alpha) && inside(beta)).then_some((t, alpha, beta))
+    }
+
+    /// The hit record for an intersection found by [`Quad::intersect`].
+    #[inline]
+    pub fn hit_at(&self, ray: &Ray, t: Real, alpha: Real, beta: Real) -> Hit {
+        let (u, v) = (alpha.clamp(0.0, 1.0), beta.clamp(0.0, 1.0));
+        let front_face = ray.dir.dot(self.normal) < 0.0;
+        Hit {
+            t,
+            point: self.q + u * self.u + v * self.v,
+            normal: if front_face { self.normal } else { -self.normal },
+            front_face,
+            material: self.material,
+            offset: self.spawn_offset(),
+            u,
+            v,
+        }
+    }
+
+    /// The safe distance off the quad for a new ray's origin: a few ulps of its largest
+    /// coordinate, as for spheres.
+    #[inline]
+    pub fn spawn_offset(&self) -> Real {
+        const ULPS: Real = 8.0;
+        ULPS * Real::EPSILON * (self.q.abs() + self.u.abs() + self.v.abs()).max_element()
+    }
+
+    /// The four corners.
+    pub fn corners(&self) -> [Vec3; 4] {
+        [self.q, self.q + self.u, self.q + self.v, self.q + self.u + self.v]
+    }
+}
+
+impl Bounded for Quad {
+    /// The corners' box, padded as a sphere's is (a quad in an axis plane has a flat box,
+    /// which rounding could otherwise make a ray skip).
+    fn bounds(&self) -> Aabb {
+        let corners = self.corners().iter().fold(Aabb::EMPTY, |b, &c| b.grow(c));
+        corners.padded(0.25 * self.spawn_offset())
+    }
+
+    fn centroid(&self) -> Vec3 {
+        self.q + 0.5 * (self.u + self.v)
+    }
+}
+
+/// The six faces of the box with opposite corners `a` and `b`, each facing outwards (a
+/// closed surface: its front faces are its outside, which a medium bounded by it relies on).
+pub fn box_faces(a: Vec3, b: Vec3, material: u32) -> Option<[Quad; 6]> {
+    let (min, max) = (a.min(b), a.max(b));
+    let d = max - min;
+    let (dx, dy, dz) = (Vec3::new(d.x, 0.0, 0.0), Vec3::new(0.0, d.y, 0.0), Vec3::new(0.0, 0.0, d.z));
+    let faces = [
+        Quad::new(Vec3::new(min.x, min.y, max.z), dx, dy, material)?, // front, +z
+        Quad::new(Vec3::new(max.x, min.y, max.z), -dz, dy, material)?, // right, +x
+        Quad::new(Vec3::new(max.x, min.y, min.z), -dx, dy, material)?, // back, −z
+        Quad::new(min, dz, dy, material)?,                            // left, −x
+        Quad::new(Vec3::new(min.x, max.y, max.z), dx, -dz, material)?, // top, +y
+        Quad::new(min, dx, dz, material)?,                            // bottom, −y
+    ];
+    Some(faces)
+}

@@ -1,0 +1,196 @@
+//! Triangle meshes, as pbrt keeps them: flat and indexed. The vertices' positions (and,
+//! when the file gives them, normals and texture coordinates) are stored once; a triangle is
+//! three indices into them, never three copied points. A mesh keeps its own four-wide tree
+//! over its triangles and is one object in its scene's (or group's) tree.
+//!
+//! Triangles are tested with the watertight test (`geometry/triangle.rs`), so a closed mesh
+//! has no cracks between neighbours; new rays start a few ulps of the mesh's own magnitude
+//! off it, as off a sphere.
+
+use crate::tracer::accel::bvh::Bvh;
+use crate::tracer::accel::wide::WideBvh;
+use crate::tracer::geometry::hit::{Closest, Hit};
+use crate::tracer::geometry::triangle::{self, TriangleHit};
+use crate::tracer::math::aabb::{Aabb, Bounded};
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::{Real, Vec3};
+
+/// Triangles per leaf of a mesh's tree.
+const LEAF: usize = 4;
+
+/// A triangle mesh.
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    positions: Vec<Vec3>,
+    /// One per position, or empty (then the flat face normal shades).
+    normals: Vec<Vec3>,
+    /// One `(u, v)` per position, or empty (then a triangle's barycentric `(b1, b2)`).
+    uvs: Vec<[Real; 2]>,
+    /// Vertex indices, in the tree's order.
+    triangles: Vec<[u32; 3]>,
+    tree: WideBvh,
+    bounds: Aabb,
+    /// Off-surface distance for new rays, from the mesh's magnitude.
+    offset: Real,
+}
+
+/// A triangle while the tree is built: its indices, box and centre.
+struct Building {
+    indices: [u32; 3],
+    bounds: Aabb,
+}
+
+impl Bounded for Building {
+    fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+    fn centroid(&self) -> Vec3 {
+        0.5 * (self.bounds.min + self.bounds.max)
+    }
+}
+
+impl Mesh {
+    /// A mesh of `triangles` over `positions`, with optional per-vertex `normals` and `uvs`
+    /// (empty, or one per position). Refuses, with a sentence naming the first, an index out
+    /// of range, a triangle of zero area, a number that is not finite, or no triangle at all.
+    ///
+    /// ```
+    /// use raypool::tracer::world::mesh::Mesh;
+    /// use raypool::tracer::math::{ray::Ray, real::Vec3};
+    /// let square = Mesh::new(
+    ///     vec![Vec3::new(-1.0, -1.0, -3.0), Vec3::new(1.0, -1.0, -3.0), Vec3::new(1.0, 1.0, -3.0), Vec3::new(-1.0, 1.0, -3.0)],
+    ///     vec![], vec![], vec![[0, 1, 2], [0, 2, 3]],
+    /// ).unwrap();
+    /// assert_eq!(square.hit(&Ray::new(Vec3::ZERO, -Vec3::Z), f32::INFINITY, 0).unwrap().t, 3.0);
+    /// assert!(Mesh::new(vec![Vec3::ZERO; 3], vec![], vec![], vec![[0, 1, 2]]).is_err(), "no area");
+    /// ```
+    pub fn new(
+        positions: Vec<Vec3>,
+        normals: Vec<Vec3>,
+        uvs: Vec<[Real; 2]>,
+        triangles: Vec<[u32; 3]>,
+    ) -> Result<Mesh, String> {
+        if triangles.is_empty() {
+            return Err("a mesh needs at least one triangle".to_owned());
+        }
+        if let Some(k) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(format!("vertex {} is not finite numbers", k + 1));
+        }
+        for (what, len) in [("normals", normals.len()), ("texture coordinates", uvs.len())] {
+            if len != 0 && len != positions.len() {
+                return Err(format!("{len} {what} for {} vertices", positions.len()));
+            }
+        }
+        let mut building = Vec::with_capacity(triangles.len());
+        for (k, &indices) in triangles.iter().enumerate() {
+            if let Some(&i) = indices.iter().find(|&&i| i as usize >= positions.len()) {
+                return Err(format!("triangle {} names vertex {} of {}", k + 1, i + 1, positions.len()));
+            }
+            let p = indices.map(|i| positions[i as usize]);
+            if triangle::degenerate(p) {
+                return Err(format!(
+                    "triangle {} has zero area (vertices {:?})",
+                    k + 1,
+                    p.map(|v| v.to_array())
+                ));
+            }
+            let bounds = p.iter().fold(Aabb::EMPTY, |b, &v| b.grow(v));
+            building.push(Building { indices, bounds });
+        }
+        let whole = building.iter().fold(Aabb::EMPTY, |b, t| b.union(t.bounds));
+        let offset = 8.0 * Real::EPSILON * whole.magnitude();
+        // Boxes padded as the spheres' are: a quarter of the spawn offset.
+        building.iter_mut().for_each(|t| t.bounds = t.bounds.padded(0.25 * offset));
+        let binary = Bvh::build_with_leaves(&mut building, LEAF);
+        let tree = WideBvh::collapse_plain(&binary, building.len());
+        let triangles = building.iter().map(|t| t.indices).collect();
+        Ok(Mesh { positions, normals, uvs, triangles, tree, bounds: whole.padded(0.25 * offset), offset })
+    }
+
+    /// Number of triangles.
+    pub fn triangle_count(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// The positions, shared by the triangles.
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// The triangles' vertex indices (in the tree's order).
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// The three corners of triangle `k`.
+    #[inline(always)]
+    pub fn corners(&self, k: usize) -> [Vec3; 3] {
+        self.triangles[k].map(|i| self.positions[i as usize])
+    }
+
+    /// The nearest triangle hit in `(0, t_max)` as `(triangle, hit)`, ties to the lower index.
+    #[inline]
+    pub fn closest(&self, ray: &Ray, t_max: Real) -> Option<(usize, TriangleHit)> {
+        let mut closest = Closest::none(t_max);
+        let mut barycentric = [0.0; 3];
+        self.tree.traverse(ray, &mut closest, |leaf, closest| {
+            for k in leaf {
+                if let Some(hit) = triangle::intersect(self.corners(k), ray, closest.bound()) {
+                    closest.offer(hit.t, k as u32);
+                    if closest.index == k as u32 {
+                        barycentric = hit.barycentric;
+                    }
+                }
+            }
+        });
+        let (k, t) = closest.found()?;
+        Some((k, TriangleHit { t, barycentric }))
+    }
+
+    /// The nearest hit in `(0, t_max)`, with `material`.
+    #[inline]
+    pub fn hit(&self, ray: &Ray, t_max: Real, material: u32) -> Option<Hit> {
+        let (k, found) = self.closest(ray, t_max)?;
+        let [i0, i1, i2] = self.triangles[k].map(|i| i as usize);
+        let [b0, b1, b2] = found.barycentric;
+        let p = [self.positions[i0], self.positions[i1], self.positions[i2]];
+        let geometric = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+        let front_face = ray.dir.dot(geometric) < 0.0;
+        let facing = if front_face { geometric } else { -geometric };
+        // A shading normal, where the file gives them, turned to the side the ray sees.
+        let normal = if self.normals.is_empty() {
+            facing
+        } else {
+            let n =
+                (b0 * self.normals[i0] + b1 * self.normals[i1] + b2 * self.normals[i2]).normalize_or_zero();
+            if n.dot(facing) > 0.0 {
+                n
+            } else if n == Vec3::ZERO {
+                facing
+            } else {
+                -n
+            }
+        };
+        let (u, v) = if self.uvs.is_empty() {
+            (b1, b2)
+        } else {
+            let uv = |c: usize| b0 * self.uvs[i0][c] + b1 * self.uvs[i1][c] + b2 * self.uvs[i2][c];
+            (uv(0), uv(1))
+        };
+        Some(Hit {
+            t: found.t,
+            point: b0 * p[0] + b1 * p[1] + b2 * p[2],
+            normal,
+            front_face,
+            material,
+            offset: self.offset,
+            u,
+            v,
+        })
+    }
+
+    /// The mesh's box.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+}
