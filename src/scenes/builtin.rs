@@ -206,7 +206,7 @@ pub fn next_week_scene(scene_seed: u64) -> SceneFile {
             scene.boxes.push(BoxSpec { min: [x0, 0.0, z0], max, material: named("ground"), transform: None });
         }
     }
-    let light = MaterialSpec::DiffuseLight { emit: [7.0; 3] };
+    let light = MaterialSpec::DiffuseLight { emit: [7.0; 3], albedo: 0.0 };
     scene.quads.push(QuadSpec {
         q: [123.0, 554.0, 147.0],
         u: [300.0, 0.0, 0.0],

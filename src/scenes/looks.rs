@@ -43,6 +43,9 @@ pub enum MaterialSpec {
     DiffuseLight {
         /// Emitted radiance per channel, each ≥ 0.
         emit: [f64; 3],
+        /// Grey diffuse reflectance in `[0, 1]` (default 0: the books' lights reflect nothing).
+        #[serde(default, skip_serializing_if = "is_zero")]
+        albedo: f64,
     },
 }
 
@@ -158,7 +161,10 @@ impl Looks<'_> {
             MaterialSpec::Dielectric { ior } => {
                 check(ior.is_finite() && *ior > 0.0, || format!("ior must be finite and > 0, got {ior}"))
             }
-            MaterialSpec::DiffuseLight { emit } => colour(*emit).map_err(|e| format!("emit {e}")),
+            MaterialSpec::DiffuseLight { emit, albedo } => {
+                colour(*emit).map_err(|e| format!("emit {e}"))?;
+                check((0.0..=1.0).contains(albedo), || format!("albedo must be in [0, 1], got {albedo}"))
+            }
         }
     }
 }
@@ -230,7 +236,9 @@ impl Tables {
                 Material::Metal { albedo: vec3(*albedo), fuzz: *fuzz as Real }
             }
             MaterialSpec::Dielectric { ior } => Material::Dielectric { ior: *ior as Real },
-            MaterialSpec::DiffuseLight { emit } => Material::DiffuseLight { emit: vec3(*emit) },
+            MaterialSpec::DiffuseLight { emit, albedo } => {
+                Material::DiffuseLight { emit: vec3(*emit), albedo: *albedo as Real }
+            }
         };
         self.push(material)
     }
@@ -266,6 +274,10 @@ impl Tables {
         }
         i
     }
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// `Ok` if `ok`, else the message.

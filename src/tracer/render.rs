@@ -16,6 +16,7 @@ use crate::tracer::camera::Camera;
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3};
+use crate::tracer::sampling::independent::mix;
 use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, SampleRng, Sampler};
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
@@ -85,6 +86,9 @@ impl Default for RenderSettings {
         }
     }
 }
+
+/// Mixed into the render seed for the media's numbers, so they are not any stream's.
+const MEDIA_KEY: u64 = 0x6D65_6469_6100_0000;
 
 /// Russian roulette starts once a path has cast this many rays (its first bounces are
 /// where most of its light comes from, so they are never cut).
@@ -277,8 +281,17 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
             // The shutter time, drawn only where something moves (after the camera's numbers,
             // so a still scene's numbers are those it always drew).
             let time = if WORLD && job.scene.has_motion() { uniform(&mut rng) } else { 0.0 };
+            // Media draw from the path's identity, not from its stream: a medium (even one of
+            // density 0) changes no other number the path draws.
+            let path = if WORLD && job.scene.has_media() {
+                mix(mix(job.settings.seed ^ MEDIA_KEY) ^ (j as u64 * width + i as u64))
+                    ^ u64::from(sample) << 32
+            } else {
+                0
+            };
+            let start = Probe { time, medium_seed: path };
             let value =
-                trace::<_, WORLD>(&job.scene, &closest_hit, ray, time, &job.settings, &mut rng, &mut rays);
+                trace::<_, WORLD>(&job.scene, &closest_hit, ray, start, &job.settings, &mut rng, &mut rays);
             let value = to_dvec3(value);
             sums.sums[k] += value;
             if sample % 2 == 1 {
@@ -305,7 +318,7 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
     scene: &Scene,
     closest_hit: &impl Fn(&Ray) -> Option<Hit>,
     mut ray: Ray,
-    time: Real,
+    start: Probe,
     settings: &RenderSettings,
     rng: &mut R,
     rays: &mut u64,
@@ -315,8 +328,8 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
     for cast in 1..=settings.max_depth {
         *rays += 1;
         let found = if WORLD {
-            let medium_seed = if scene.has_media() { rng.next_u64() } else { 0 };
-            scene.hit_world(&ray, &Probe { time, medium_seed })
+            let medium_seed = if scene.has_media() { mix(start.medium_seed ^ u64::from(cast)) } else { 0 };
+            scene.hit_world(&ray, &Probe { medium_seed, ..start })
         } else {
             closest_hit(&ray)
         };

@@ -43,10 +43,14 @@ pub enum Material {
         /// Index into the scene's [`Textures`].
         texture: u32,
     },
-    /// A light: emits `emit` from its front face, absorbs whatever arrives.
+    /// A light: emits `emit` from its front face; reflects diffusely a grey fraction
+    /// `albedo` of what arrives (0, the books' light, absorbs it all).
     DiffuseLight {
         /// Emitted radiance, linear RGB.
         emit: Vec3,
+        /// Diffuse reflectance, the same in every channel (an emissive wall of the exact
+        /// furnace test reflects too).
+        albedo: Real,
     },
     /// The phase function of a participating medium: scatters into every direction alike.
     Isotropic {
@@ -82,7 +86,9 @@ impl Material {
             Material::Textured { texture } => {
                 Some(diffuse(textures.value(texture, hit.u, hit.v, hit.point), hit, rng))
             }
-            Material::DiffuseLight { .. } => None,
+            Material::DiffuseLight { albedo, .. } => {
+                (albedo > 0.0).then(|| diffuse(Vec3::splat(albedo), hit, rng))
+            }
             Material::Isotropic { albedo } => {
                 Some(Scatter { attenuation: albedo, direction: random_unit_vector(rng) })
             }
@@ -113,7 +119,7 @@ impl Material {
     #[inline]
     pub fn emitted(&self, hit: &Hit) -> Vec3 {
         match *self {
-            Material::DiffuseLight { emit } if hit.front_face => emit,
+            Material::DiffuseLight { emit, .. } if hit.front_face => emit,
             _ => Vec3::ZERO,
         }
     }
