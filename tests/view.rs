@@ -350,3 +350,26 @@ fn hostile_traffic_does_not_stop_the_server() {
     let image = served_image(&viewer, generation);
     assert!(image == cli_render(&viewer, &["--width", "40", "--spp", "2"]), "the image after the traffic");
 }
+
+#[test]
+fn a_second_book_scene_in_the_viewer_is_the_command_lines_image() {
+    for scene in ["next-week", "cornell-smoke"] {
+        let viewer = Viewer::start(&[
+            "--scene",
+            scene,
+            "--width",
+            "40",
+            "--spp",
+            "4",
+            "--threads",
+            "2",
+            "--tile",
+            "8",
+        ]);
+        let image = served_image(&viewer, 1);
+        assert!(
+            image == cli_render(&viewer, &["--width", "40", "--spp", "4"]),
+            "{scene}: the viewer's image"
+        );
+    }
+}

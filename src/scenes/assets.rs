@@ -109,10 +109,10 @@ impl Assets {
             let Some(obj) = &spec.obj else { continue };
             let scale = spec.scale.unwrap_or(1.0);
             let key = (obj.clone(), scale.to_bits());
-            if !assets.meshes.contains_key(&key) {
+            if let std::collections::btree_map::Entry::Vacant(slot) = assets.meshes.entry(key) {
                 let path = inside(folder, obj).map_err(|e| format!("mesh #{at}: {e}"))?;
                 let mesh = load_obj(&path, scale).map_err(|e| format!("mesh #{at}: '{obj}': {e}"))?;
-                assets.meshes.insert(key, Arc::new(mesh));
+                slot.insert(Arc::new(mesh));
             }
         }
         for &path in images {

@@ -53,7 +53,7 @@ impl Quad {
         let n = u.cross(v);
         let finite = q.is_finite() && u.is_finite() && v.is_finite() && n.is_finite();
         let area2 = n.length_squared();
-        if !finite || !(area2 > 0.0) || !area2.is_finite() {
+        if !finite || !area2.is_finite() || area2 <= 0.0 {
             return None;
         }
         Some(Quad { q, u, v, w: n / area2, normal: n / area2.sqrt(), material })

@@ -38,7 +38,8 @@ pub struct TriangleHit {
 /// Whether the triangle `p` has no area (it is then never hit; scene files refuse it).
 pub fn degenerate(p: [Vec3; 3]) -> bool {
     let n = (p[1] - p[0]).cross(p[2] - p[0]);
-    !(n.length_squared() > 0.0) || !n.is_finite()
+    let area2 = n.length_squared();
+    !n.is_finite() || !area2.is_finite() || area2 <= 0.0
 }
 
 /// The hit of `ray` on the triangle `p` in `(0, t_max)`, if any.
@@ -87,7 +88,7 @@ pub fn intersect(p: [Vec3; 3], ray: &Ray, t_max: Real) -> Option<TriangleHit> {
     }
     let inv_det = 1.0 / det;
     let t = t_scaled * inv_det;
-    if !(t < t_max) || t <= rounding_bound(&q, &z, &e, inv_det) {
+    if t.is_nan() || t >= t_max || t <= rounding_bound(&q, &z, &e, inv_det) {
         return None;
     }
     Some(TriangleHit { t, barycentric: e.map(|x| x * inv_det) })

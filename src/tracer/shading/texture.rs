@@ -69,7 +69,7 @@ pub struct Textures {
 }
 
 /// The seed of every scene's noise field: the marble is part of the scene, not of the render.
-pub const NOISE_SEED: u64 = 0x6E6F_6973_65;
+pub const NOISE_SEED: u64 = 0x006E_6F69_7365;
 
 impl Textures {
     /// Texture `index`'s colour at surface point `p` with coordinates `(u, v)`.

@@ -31,7 +31,7 @@ impl Medium {
     /// Where the ray scatters in the medium before `t_max`, if it does.
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
-        if !(self.density > 0.0) {
+        if self.density.is_nan() || self.density <= 0.0 {
             return None;
         }
         let first = self.boundary.hit(ray, Real::INFINITY, probe)?;
@@ -48,7 +48,7 @@ impl Medium {
         }
         let length = exit.min(t_max) - enter;
         let distance = -probe.uniform(self.id).ln() / self.density;
-        if !(distance < length) {
+        if distance.is_nan() || distance >= length {
             return None;
         }
         let t = enter + distance;
