@@ -1,13 +1,17 @@
 //! Numerical stress tests (issue #6): no NaN or infinite pixel anywhere, and energy exactly
 //! conserved where the answer is known, in f32, at scales from 10⁻³ to 10⁵. The cases and
 //! their known answers are in `raypool::measure::stress`; here raypool's robust method must pass all
-//! of them. (`cargo bench --bench stability` shows how the book's method fares.)
+//! of them. (`cargo bench --bench stability` shows how the book's method fares.) The second
+//! book's shapes are checked ray by ray (`raypool::measure::stress_shapes`): no ray aimed at a
+//! closed mesh's shared edges or vertices slips through, and no ray spawned off a quad or a
+//! triangle 10⁴ from the origin meets it again.
 
 mod deadline;
 
 use deadline::within;
 use glam::DVec3;
 use raypool::measure::stress::{StressCase, cases};
+use raypool::measure::stress_shapes::{self, Aim, Flat, Solid};
 use raypool::scenes::builtin::builtin_scene;
 use raypool::tracer::geometry::sphere::Intersection;
 use raypool::tracer::math::real::to_dvec3;
@@ -102,6 +106,32 @@ fn the_textbook_method_fails_where_raypool_does_not() {
         }
         let o = case("ground sphere of radius 1e4").run(Intersection::Textbook);
         assert!(o.dark > 0 || o.non_finite > 0, "the textbook method passed: {o:?}");
+    });
+}
+
+#[test]
+fn rays_at_the_seams_of_a_closed_triangle_mesh_never_slip_through() {
+    within("2·10⁴ rays at each kind of seam to be traced", move || {
+        for placed in [false, true] {
+            for solid in [Solid::Icosphere, Solid::TriangleCube] {
+                for aim in [Aim::Edges, Aim::Vertices] {
+                    let leaks = stress_shapes::leaks(solid, aim, placed, 20_000);
+                    assert_eq!(leaks, 0, "{solid:?} at its {aim:?}, through an instance: {placed}");
+                }
+            }
+        }
+    });
+}
+
+#[test]
+fn quads_and_triangles_1e4_from_the_origin_show_no_acne() {
+    within("2·10⁴ hits and their spawned rays to be traced", move || {
+        for placed in [false, true] {
+            for flat in [Flat::Quad, Flat::Triangle] {
+                let a = stress_shapes::acne(flat, 1e4, placed, 20_000);
+                assert_eq!(a, stress_shapes::Acne::default(), "{flat:?}, through an instance: {placed}");
+            }
+        }
     });
 }
 

@@ -16,6 +16,8 @@ pub mod scaling;
 pub mod convergence;
 pub mod compare;
 pub mod stress;
+pub mod stress_shapes;
+pub mod solids;
 pub mod plot;
 pub mod machine;
 pub mod grade;
