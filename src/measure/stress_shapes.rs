@@ -18,9 +18,9 @@ use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::sampling::independent::mix;
-use crate::tracer::world::group::Group;
-use crate::tracer::world::instance::Instance;
 use crate::tracer::world::mesh::Mesh;
+use crate::tracer::world::object::Group;
+use crate::tracer::world::object::Instance;
 use crate::tracer::world::object::{Object, Probe};
 
 /// A closed solid whose seams [`leaks`] aims at.

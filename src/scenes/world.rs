@@ -36,9 +36,9 @@ use crate::tracer::geometry::triangle;
 use crate::tracer::math::real::{Real, Vec3, vec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::shading::material::Material;
-use crate::tracer::world::group::Group;
-use crate::tracer::world::instance::Instance;
-use crate::tracer::world::medium::Medium;
+use crate::tracer::world::object::Group;
+use crate::tracer::world::object::Instance;
+use crate::tracer::world::object::Medium;
 use crate::tracer::world::object::Object;
 
 /// One `[[sphere]]` table.

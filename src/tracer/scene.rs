@@ -23,7 +23,7 @@ use crate::tracer::math::real::Real;
 use crate::tracer::shading::background::Background;
 use crate::tracer::shading::material::Material;
 use crate::tracer::shading::texture::Textures;
-use crate::tracer::world::group::{Group, TREE_MIN_OBJECTS};
+use crate::tracer::world::object::{Group, TREE_MIN_OBJECTS};
 use crate::tracer::world::object::{Object, Probe};
 
 /// Scenes with fewer spheres than this test every sphere: a hierarchy costs more than it

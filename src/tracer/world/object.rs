@@ -2,20 +2,24 @@
 //! array its tree indexes, and a search matches on the kind (a predictable branch) instead of
 //! calling through a pointer. Composite kinds (meshes, instances, media) hold their parts
 //! behind a pointer, which keeps the array's entries small.
+//!
+//! The kinds that hold other objects live here too (a [`Group`], an [`Instance`], a
+//! [`Medium`]): an object may be made of objects, so these types are one recursive family, and
+//! one file keeps the imports free of circles.
 
-use std::sync::Arc;
-
-use crate::tracer::geometry::hit::Hit;
+use crate::tracer::accel::bvh::Bvh;
+use crate::tracer::accel::wide::WideBvh;
+use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::math::transform::Transform;
 use crate::tracer::sampling::independent::mix;
-use crate::tracer::world::instance::Instance;
-use crate::tracer::world::medium::Medium;
 use crate::tracer::world::mesh::Mesh;
+use std::sync::Arc;
 
 /// What a search needs besides the ray: the time the camera ray sampled (for moving shapes)
 /// and the random seed media draw their scattering distances from.
@@ -121,5 +125,208 @@ impl Bounded for Object {
                 0.5 * (b.min + b.max)
             }
         }
+    }
+}
+
+// ---- Groups:
+// A group: objects searched together, through a four-wide tree of their boxes once there are
+// enough of them (the same trees `accel` builds for spheres). A scene's world is a group; so
+// is what an instance places and what bounds a medium.
+//
+// Ties in distance go to the lower index ([`Closest`]), so a group searched through its tree
+// finds exactly what testing its objects in order finds (`--accel flat`).
+
+/// Groups of fewer objects than this test them all: a tree costs more than it saves.
+pub const TREE_MIN_OBJECTS: usize = 6;
+
+/// Objects per leaf of a group's four-wide tree.
+const LEAF: usize = 4;
+
+/// Objects, and the tree over them (none for small groups, or when asked for none).
+#[derive(Clone, Debug)]
+pub struct Group {
+    objects: Vec<Object>,
+    tree: Option<WideBvh>,
+    bounds: Aabb,
+}
+
+impl Group {
+    /// A group of `objects`, with a tree if there are at least [`TREE_MIN_OBJECTS`] of them
+    /// (which reorders them).
+    pub fn new(objects: Vec<Object>) -> Group {
+        let tree = objects.len() >= TREE_MIN_OBJECTS;
+        Group::with_tree(objects, tree)
+    }
+
+    /// A group of `objects`, searched through a tree or, with `tree` false, one by one in
+    /// their current order.
+    pub fn with_tree(mut objects: Vec<Object>, tree: bool) -> Group {
+        let bounds = objects.iter().map(Bounded::bounds).fold(Aabb::EMPTY, Aabb::union);
+        let tree = (tree && !objects.is_empty()).then(|| {
+            let binary = Bvh::build_with_leaves(&mut objects, LEAF);
+            WideBvh::collapse_plain(&binary, objects.len())
+        });
+        Group { objects, tree, bounds }
+    }
+
+    /// The same objects searched the other way (for `--accel` comparisons).
+    pub fn rebuilt(self, tree: bool) -> Group {
+        Group::with_tree(self.objects, tree)
+    }
+
+    /// The objects, in the order the tree stored them.
+    pub fn objects(&self) -> &[Object] {
+        &self.objects
+    }
+
+    /// Whether a tree is searched.
+    pub fn has_tree(&self) -> bool {
+        self.tree.is_some()
+    }
+
+    /// `(moves, media)`: whether any object moves, or is a medium.
+    pub fn needs(&self) -> (bool, bool) {
+        self.objects.iter().map(Object::needs).fold((false, false), |a, b| (a.0 | b.0, a.1 | b.1))
+    }
+
+    /// The nearest hit in `(0, t_max)`.
+    #[inline]
+    pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
+        let mut closest = Closest::none(t_max);
+        let mut best = None;
+        let mut offer = |i: usize, closest: &mut Closest| {
+            if let Some(hit) = self.objects[i].hit(ray, closest.bound(), probe) {
+                closest.offer(hit.t, i as u32);
+                if closest.index == i as u32 {
+                    best = Some(hit);
+                }
+            }
+        };
+        match &self.tree {
+            None => (0..self.objects.len()).for_each(|i| offer(i, &mut closest)),
+            Some(tree) => {
+                tree.traverse(ray, &mut closest, |leaf, closest| leaf.for_each(|i| offer(i, closest)))
+            }
+        }
+        best
+    }
+}
+
+impl Bounded for Group {
+    fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    fn centroid(&self) -> crate::tracer::math::real::Vec3 {
+        0.5 * (self.bounds.min + self.bounds.max)
+    }
+}
+
+// ---- Instances:
+// An instance: a group placed in the scene by a rigid transform. The ray is moved into the
+// group's frame and the hit moved back (the books' `translate` and `rotate_y`, pbrt's
+// `TransformedPrimitive`), so the geometry exists once however many times it is placed.
+
+/// A group and where it is placed.
+#[derive(Clone, Debug)]
+pub struct Instance {
+    /// Object frame to world.
+    pub transform: Transform,
+    /// What is placed.
+    pub group: Group,
+    bounds: Aabb,
+}
+
+impl Instance {
+    /// `group` placed by `transform`.
+    pub fn new(transform: Transform, group: Group) -> Instance {
+        let inner = group.bounds();
+        // The placed box is padded by the rounding of placing a point at its magnitude.
+        let placed = transform.bounds(&inner);
+        let pad = 4.0 * Real::EPSILON * (placed.magnitude() + inner.magnitude());
+        Instance { transform, group, bounds: placed.padded(pad) }
+    }
+
+    /// The world box.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
+    }
+
+    /// The nearest hit in `(0, t_max)`: found in the group's frame (a rigid placement keeps
+    /// distances), then placed in the world's. The spawn offset grows by the rounding of
+    /// placing the point.
+    #[inline]
+    pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
+        let local = self.transform.inverse_ray(ray);
+        let mut hit = self.group.hit(&local, t_max, probe)?;
+        hit.point = self.transform.point(hit.point);
+        hit.normal = self.transform.vector(hit.normal);
+        let magnitude = hit.point.abs().max_element() + self.transform.offset_magnitude();
+        hit.offset += 8.0 * Real::EPSILON * magnitude;
+        Some(hit)
+    }
+}
+
+// ---- Media:
+// A participating medium of constant density (the second book's `constant_medium`): fog or
+// smoke filling a closed boundary. A ray crossing `L` of it scatters with probability
+// `1 − e^(−density·L)`, at a distance drawn from that exponential law, into a direction
+// drawn by the isotropic phase function (`Material::Isotropic`).
+//
+// The boundary is any closed group. Where the ray is decides the interval: if the boundary's
+// first hit is a front face, the ray enters there and leaves at the next hit; if it is a back
+// face, the ray starts inside (a camera in global fog, a path that scattered in the smoke)
+// and leaves there.
+
+/// Fog or smoke inside `boundary`.
+#[derive(Clone, Debug)]
+pub struct Medium {
+    /// The closed surface the medium fills (its front faces outwards).
+    pub boundary: Group,
+    /// Scattering events per unit length, ≥ 0 (0: the medium is not there).
+    pub density: Real,
+    /// Index of its isotropic material in the scene's table.
+    pub material: u32,
+    /// Which medium this is: its own random number per ray ([`Probe::uniform`]).
+    pub id: u32,
+}
+
+impl Medium {
+    /// Where the ray scatters in the medium before `t_max`, if it does.
+    #[inline]
+    pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
+        if self.density.is_nan() || self.density <= 0.0 {
+            return None;
+        }
+        let first = self.boundary.hit(ray, Real::INFINITY, probe)?;
+        let (enter, exit) = if first.front_face {
+            // Cross into the boundary, then find where the ray leaves it.
+            let inside = first.spawn(ray.dir);
+            let last = self.boundary.hit(&inside, Real::INFINITY, probe)?;
+            (first.t, (last.point - ray.origin).dot(ray.dir))
+        } else {
+            (0.0, first.t)
+        };
+        if enter >= t_max {
+            return None;
+        }
+        let length = exit.min(t_max) - enter;
+        let distance = -probe.uniform(self.id).ln() / self.density;
+        if distance.is_nan() || distance >= length {
+            return None;
+        }
+        let t = enter + distance;
+        Some(Hit {
+            t,
+            point: ray.at(t),
+            // Any unit vector: the phase function ignores it, and a ray leaves from right
+            // here (no offset: there is no surface to clear).
+            normal: Vec3::X,
+            front_face: true,
+            material: self.material,
+            offset: 0.0,
+            u: 0.0,
+            v: 0.0,
+        })
     }
 }
