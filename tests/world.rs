@@ -202,3 +202,56 @@ fn mangled_new_world_scene_files_are_refused_or_render_never_panic() {
     }
     assert!(parsed > 50 && refused > 50, "both kinds exercised: {parsed} parsed, {refused} refused");
 }
+
+#[test]
+fn an_absorbing_medium_lets_through_exactly_e_to_the_minus_density_times_length() {
+    // A slab of black smoke (albedo 0) 2 units thick between the camera and a light that fills
+    // the view: a path either crosses it (Le) or is absorbed (0), so the image's mean is
+    // Le·e^(−σ·2) up to binomial noise, whose size the test computes rather than guesses.
+    let (density, le) = (0.4, 1.0);
+    let text = format!(
+        "{CAMERA}[background]\nkind = \"black\"\n\
+         [[quad]]\nq = [-50.0, -50.0, -5.0]\nu = [100.0, 0.0, 0.0]\nv = [0.0, 100.0, 0.0]\n\
+         material = {{ kind = \"diffuse_light\", emit = [{le}, {le}, {le}] }}\n\
+         [[medium]]\ndensity = {density}\nalbedo = [0.0, 0.0, 0.0]\n\
+         boundary = {{ kind = \"box\", min = [-40.0, -40.0, -3.0], max = [40.0, 40.0, -1.0] }}\n"
+    );
+    let settings = RenderSettings { width: 32, height: 32, spp: 64, max_depth: 4, ..Default::default() };
+    let pixels = render(&text, settings);
+    let n = (32 * 32 * 64) as f64;
+    let mean = pixels.iter().map(|p| to_f64(p.x)).sum::<f64>() / (32.0 * 32.0);
+    // Each ray crosses the slab obliquely (up to 30° off axis): the exact mean over the image
+    // is the average of e^(−σ·2/cos θ); bound it between the axis and the corner ray.
+    let (axis, corner) = (
+        le * f64::exp(-density * 2.0),
+        le * f64::exp(-density * 2.0 * (1.0 + 2.0 * 0.577f64.powi(2)).sqrt()),
+    );
+    let noise = 4.0 * (axis * (1.0 - axis) / n).sqrt();
+    assert!(
+        mean <= axis + noise && mean >= corner - noise,
+        "mean {mean}, between {corner} and {axis} ± {noise}"
+    );
+    assert!(mean < 0.9 * le && mean > 0.1 * le, "the smoke both absorbs and lets through: {mean}");
+}
+
+#[test]
+fn a_checker_under_a_white_sky_shows_exactly_its_two_colours() {
+    // One diffuse bounce into a constant white sky: a pixel's value is the texture's colour
+    // where the ray met the quad, exactly; a pixel wholly inside a cell is exactly that cell's.
+    let text = format!(
+        "{CAMERA}[background]\nkind = \"constant\"\ncolor = [1.0, 1.0, 1.0]\n\
+         [[quad]]\nq = [-2.0, -2.0, -1.5]\nu = [4.0, 0.0, 0.0]\nv = [0.0, 4.0, 0.0]\n\
+         material = {{ kind = \"lambertian\", texture = {{ kind = \"checker\", scale = 0.25, even = [0.25, 0.5, 0.75], odd = [0.5, 0.125, 0.0625] }} }}\n"
+    );
+    let settings = RenderSettings { width: 48, height: 48, spp: 4, max_depth: 3, ..Default::default() };
+    let pixels = render(&text, settings);
+    let (even, odd) = (Vec3::new(0.25, 0.5, 0.75), Vec3::new(0.5, 0.125, 0.0625));
+    let pure = pixels.iter().filter(|&&p| p == even || p == odd).count();
+    let both = pixels.contains(&even) && pixels.contains(&odd);
+    // Cells 0.25 wide at distance 1.5 span ~6 pixels: most pixels lie inside one cell.
+    assert!(both && pure > pixels.len() / 2, "{pure} of {} pixels are exactly a cell's colour", pixels.len());
+    for p in &pixels {
+        let mix = (p.x - odd.x) / (even.x - odd.x);
+        assert!((*p - odd.lerp(even, mix)).length() < 1e-5, "{p}: a blend of the two colours only");
+    }
+}

@@ -11,8 +11,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use crate::error::io_reason;
-use crate::scenes::looks::check;
-use crate::scenes::world::MeshSpec;
+use crate::scenes::checks::check;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::shading::perlin::Perlin;
 use crate::tracer::shading::texture::ImageTexture;
@@ -97,18 +96,17 @@ pub struct Assets {
 }
 
 impl Assets {
-    /// Loads every file `paths` names (meshes with their scale), relative to `folder`; `None`
-    /// when the scene came from no file, which may then name none.
+    /// Loads the OBJ files `meshes` names (`(mesh number, path, scale)`) and the `images`,
+    /// relative to `folder`; `None` when the scene came from no file, which may then name none.
     pub fn load(
         folder: Option<&Path>,
-        meshes: &[(usize, &MeshSpec)],
+        meshes: &[(usize, &str, Option<f64>)],
         images: &[&str],
     ) -> Result<Assets, String> {
         let mut assets = Assets::default();
-        for &(at, spec) in meshes {
-            let Some(obj) = &spec.obj else { continue };
-            let scale = spec.scale.unwrap_or(1.0);
-            let key = (obj.clone(), scale.to_bits());
+        for &(at, obj, scale) in meshes {
+            let scale = scale.unwrap_or(1.0);
+            let key = (obj.to_owned(), scale.to_bits());
             if let std::collections::btree_map::Entry::Vacant(slot) = assets.meshes.entry(key) {
                 let path = inside(folder, obj).map_err(|e| format!("mesh #{at}: {e}"))?;
                 let mesh = load_obj(&path, scale).map_err(|e| format!("mesh #{at}: '{obj}': {e}"))?;
@@ -125,11 +123,15 @@ impl Assets {
         Ok(assets)
     }
 
-    /// The (loaded or generated) mesh of a checked `[[mesh]]`.
-    pub fn mesh(&self, spec: &MeshSpec) -> Arc<Mesh> {
-        match (&spec.obj, &spec.generate) {
-            (Some(obj), _) => self.meshes[&(obj.clone(), spec.scale.unwrap_or(1.0).to_bits())].clone(),
-            (None, Some(generated)) => Arc::new(scaled(generated.generate(), spec.scale)),
+    /// The mesh of a checked `[[mesh]]`: its loaded `obj`, or the mesh it `generate`s, at
+    /// `scale`.
+    pub fn mesh(&self, obj: Option<&str>, generate: Option<&GeneratedMesh>, scale: Option<f64>) -> Arc<Mesh> {
+        match (obj, generate) {
+            (Some(obj), _) => self.meshes[&(obj.to_owned(), scale.unwrap_or(1.0).to_bits())].clone(),
+            (None, Some(generated)) => Arc::new(match scale {
+                None => generated.generate(),
+                Some(factor) => generated.generate().scaled(factor as Real),
+            }),
             (None, None) => unreachable!("checked: obj or generate"),
         }
     }
@@ -152,17 +154,6 @@ impl Assets {
 
 /// The names of the images raypool makes.
 pub const BUILTIN_IMAGES: &[&str] = &["planet"];
-
-fn scaled(mesh: Mesh, scale: Option<f64>) -> Mesh {
-    match scale {
-        None => mesh,
-        Some(s) => {
-            let positions = mesh.positions().iter().map(|&p| p * s as Real).collect();
-            Mesh::new(positions, Vec::new(), Vec::new(), mesh.triangles().to_vec())
-                .expect("a scaled mesh keeps its area")
-        }
-    }
-}
 
 /// `name` resolved in `folder`, refused if the scene has no folder, if it is absolute or
 /// climbs out (`..`), or if it leads out through a link.

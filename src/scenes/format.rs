@@ -41,8 +41,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, io_reason};
 use crate::scenes::assets::{Assets, BUILTIN_IMAGES};
-use crate::scenes::looks::{Looks, Ref, Tables, TextureSpec, check, check_texture, colour};
-use crate::scenes::world::{GroupSpec, MeshSpec, Shapes, finite3, placed};
+use crate::scenes::checks::{check, colour, finite3};
+use crate::scenes::looks::{Looks, Ref, Tables, TextureSpec, check_texture};
+use crate::scenes::world::{GroupSpec, MeshSpec, Shapes, placed};
 use crate::tracer::camera::CameraSettings;
 use crate::tracer::math::real::vec3;
 use crate::tracer::scene::Scene;
@@ -320,8 +321,11 @@ impl SceneFile {
 
     /// Loads the OBJ files and images the (validated) scene names, from `folder`.
     fn load_assets(&self, folder: Option<&Path>) -> Result<Assets, String> {
-        let meshes: Vec<(usize, &MeshSpec)> =
-            self.all_shapes().flat_map(|s| s.meshes.iter().enumerate().map(|(i, m)| (i + 1, m))).collect();
+        let meshes: Vec<(usize, &str, Option<f64>)> = self
+            .all_shapes()
+            .flat_map(|s| s.meshes.iter().enumerate())
+            .filter_map(|(i, m): (usize, &MeshSpec)| Some((i + 1, m.obj.as_deref()?, m.scale)))
+            .collect();
         let images: Vec<&str> = self.image_sources().filter_map(|(path, _)| path).collect();
         Assets::load(folder, &meshes, &images)
     }

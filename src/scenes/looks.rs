@@ -8,6 +8,7 @@ use serde::de::{self, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::scenes::assets::Assets;
+use crate::scenes::checks::{check, colour};
 use crate::tracer::math::real::{Real, vec3};
 use crate::tracer::shading::material::Material;
 use crate::tracer::shading::perlin::Perlin;
@@ -278,14 +279,4 @@ impl Tables {
 
 fn is_zero(x: &f64) -> bool {
     *x == 0.0
-}
-
-/// `Ok` if `ok`, else the message.
-pub fn check(ok: bool, message: impl FnOnce() -> String) -> Result<(), String> {
-    if ok { Ok(()) } else { Err(message()) }
-}
-
-/// A colour: finite and ≥ 0 in every channel.
-pub fn colour(v: [f64; 3]) -> Result<(), String> {
-    check(v.iter().all(|x| x.is_finite() && *x >= 0.0), || format!("must be finite and ≥ 0, got {v:?}"))
 }

@@ -6,6 +6,7 @@
 //! [`crate::tracer::scene::Scene`]) and [`crate::error`], nothing above. It is used by the
 //! schedulers' conformance check, the measurements, the command line and the viewer.
 
+pub mod checks;
 pub mod looks;
 pub mod world;
 pub mod assets;

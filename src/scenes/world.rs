@@ -28,7 +28,8 @@
 use serde::{Deserialize, Serialize};
 
 use crate::scenes::assets::{Assets, GeneratedMesh};
-use crate::scenes::looks::{Looks, MaterialRef, Tables, check, colour};
+use crate::scenes::checks::{check, colour, finite3};
+use crate::scenes::looks::{Looks, MaterialRef, Tables};
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::{Quad, box_faces};
 use crate::tracer::geometry::sphere::Sphere;
@@ -235,11 +236,6 @@ pub struct Shapes<'a> {
     pub media: &'a [MediumSpec],
 }
 
-/// A finite `[x, y, z]`.
-pub fn finite3(v: [f64; 3]) -> bool {
-    v.iter().all(|x| x.is_finite())
-}
-
 impl TransformSpec {
     fn check(&self) -> Result<(), String> {
         let angles = [self.rotate_x, self.rotate_y, self.rotate_z];
@@ -398,7 +394,7 @@ impl<'a> Shapes<'a> {
             }
         }
         for m in self.meshes {
-            let mesh = assets.mesh(m);
+            let mesh = assets.mesh(m.obj.as_deref(), m.generate.as_ref(), m.scale);
             let object = Object::Mesh(mesh, material(&m.material));
             objects.extend(placed(vec![object], m.transform.as_ref()));
         }

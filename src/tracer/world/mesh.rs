@@ -107,6 +107,14 @@ impl Mesh {
         Ok(Mesh { positions, normals, uvs, triangles, tree, bounds: whole.padded(0.25 * offset), offset })
     }
 
+    /// The same mesh with every vertex multiplied by `factor` (> 0): normals and texture
+    /// coordinates are kept, since a uniform scale changes neither.
+    pub fn scaled(self, factor: Real) -> Mesh {
+        let positions = self.positions.iter().map(|&p| p * factor).collect();
+        let triangles = self.triangles.clone();
+        Mesh::new(positions, self.normals, self.uvs, triangles).expect("a scaled mesh keeps its area")
+    }
+
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
