@@ -15,9 +15,13 @@
 //!
 //! Needs Debian's `libembree-dev` (Embree 3). Writes `results/embree.md` (or `$RAYPOOL_RESULTS/embree.md`, or `--out FILE`).
 //! `--quick`: 300 × 200 at 4 spp, 5 rounds; by default 600 × 400 at 16 spp, 7 rounds.
+//! Then the triangle table (`embree/triangles.rs`): the `mesh` scene's mesh, the hit search alone
+//! over a fixed ray set; `--triangles-only` reruns that alone, keeping the file's sphere table.
 
 #[path = "embree/library.rs"]
 mod library;
+#[path = "embree/triangles.rs"]
+mod triangles;
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -70,6 +74,8 @@ struct Options {
     rounds: usize,
     quick: bool,
     out: PathBuf,
+    /// `--triangles-only`: rerun the triangle table alone, keeping the file's sphere table.
+    triangles_only: bool,
 }
 
 fn options() -> Options {
@@ -77,11 +83,43 @@ fn options() -> Options {
     let quick = args.iter().any(|a| a == "--quick");
     let out = args.iter().position(|a| a == "--out").and_then(|i| args.get(i + 1).map(PathBuf::from));
     let (width, height, spp, rounds) = if quick { (300, 200, 4, 5) } else { (600, 400, 16, 7) };
-    Options { width, height, spp, rounds, quick, out: out.unwrap_or_else(|| results_dir().join("embree.md")) }
+    let out = out.unwrap_or_else(|| results_dir().join("embree.md"));
+    let triangles_only = args.iter().any(|a| a == "--triangles-only");
+    Options { width, height, spp, rounds, quick, out, triangles_only }
 }
 
 fn main() {
     let options = options();
+    let spheres = if options.triangles_only {
+        let old = std::fs::read_to_string(&options.out).unwrap_or_else(|e| {
+            panic!("--triangles-only keeps {}'s sphere table: {e}", options.out.display())
+        });
+        old.split(TRIANGLES).next().unwrap_or_default().to_owned()
+    } else {
+        spheres(&options)
+    };
+    let flags: Vec<&str> = [(options.quick, " --quick"), (options.triangles_only, " --triangles-only")]
+        .into_iter()
+        .filter_map(|(on, flag)| on.then_some(flag))
+        .collect();
+    let command = format!(
+        "cargo bench --bench embree --features embree{}{}",
+        if flags.is_empty() { "" } else { " --" },
+        flags.concat()
+    );
+    let triangles =
+        triangles::section(options.quick, &command, &Machine::current().describe(), &embree_version());
+    let report = format!("{spheres}\n{triangles}");
+    std::fs::write(&options.out, &report)
+        .unwrap_or_else(|e| panic!("cannot write {}: {e}", options.out.display()));
+    print!("{report}");
+}
+
+/// Where the triangle section starts in the results file.
+const TRIANGLES: &str = "\n## Triangles";
+
+/// The sphere table: three hit searches under one path tracer.
+fn spheres(options: &Options) -> String {
     let scene = builtin_scene("final", DEFAULT_SCENE_SEED).expect("final exists").to_scene();
     let settings = RenderSettings {
         width: options.width,
@@ -149,7 +187,7 @@ fn main() {
             error.rmse,
         );
     }
-    let report = format!(
+    format!(
         "# raypool's closest-hit search against Intel Embree 3\n\n\
          The same path tracer (raypool's render loop, camera, materials and random numbers) finds\n\
          its hits three ways; the image and ray count must agree, only the time differs.\n\
@@ -175,10 +213,7 @@ fn main() {
         embree = embree_version(),
         quick = if options.quick { " -- --quick" } else { "" },
         noise = noise.rmse,
-    );
-    std::fs::write(&options.out, &report)
-        .unwrap_or_else(|e| panic!("cannot write {}: {e}", options.out.display()));
-    print!("{report}");
+    )
 }
 
 /// The installed Embree's version, as its package says (or "3").

@@ -38,7 +38,7 @@ use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3, to_f32};
 
 /// `RTC_INVALID_GEOMETRY_ID`: "no hit" in a hit record.
-const INVALID_ID: u32 = u32::MAX;
+pub const INVALID_ID: u32 = u32::MAX;
 
 /// Which of Embree's parts find the hit.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -209,7 +209,7 @@ unsafe extern "C" fn sphere_intersect(args: *const RTCIntersectFunctionNArgument
 
 /// `ray` in Embree's layout: from its origin (t = 0; raypool spawns rays off the surface) to
 /// infinity.
-fn embree_ray(ray: &Ray) -> RTCRay {
+pub fn embree_ray(ray: &Ray) -> RTCRay {
     RTCRay {
         org_x: to_f32(ray.origin.x),
         org_y: to_f32(ray.origin.y),
@@ -227,7 +227,7 @@ fn embree_ray(ray: &Ray) -> RTCRay {
 }
 
 /// A hit record that says "nothing hit".
-fn no_hit() -> RTCHit {
+pub fn no_hit() -> RTCHit {
     RTCHit {
         Ng_x: 0.0,
         Ng_y: 0.0,
@@ -242,6 +242,6 @@ fn no_hit() -> RTCHit {
 
 /// `rtcInitIntersectContext`, which is an inline function of Embree's header (not in the
 /// library): incoherent rays, no filter, no instance.
-fn incoherent_context() -> RTCIntersectContext {
+pub fn incoherent_context() -> RTCIntersectContext {
     RTCIntersectContext { flags: RTCIntersectContextFlags::INCOHERENT, filter: None, instID: [INVALID_ID] }
 }

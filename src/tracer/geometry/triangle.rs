@@ -54,13 +54,40 @@ pub fn degenerate(p: [Vec3; 3]) -> bool {
 /// ```
 #[inline]
 pub fn intersect(p: [Vec3; 3], ray: &Ray, t_max: Real) -> Option<TriangleHit> {
-    // The ray's frame: the largest direction component becomes z.
-    let d = ray.dir;
-    let kz = d.abs().max_position();
-    let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+    intersect_in(&RayFrame::new(ray), p, ray, t_max)
+}
+
+/// The ray's own frame, the part of the test that depends on the ray alone: computed once
+/// per ray by a mesh's search, then shared by every triangle it tests (the same numbers as
+/// [`intersect`] computes for itself, so the same hits).
+#[derive(Clone, Copy, Debug)]
+pub struct RayFrame {
+    /// The axes that become x, y and z (z: the direction's largest component).
+    k: [usize; 3],
+    /// The shear: `x += sx·z`, `y += sy·z`, then `z·sz`.
+    sx: Real,
+    sy: Real,
+    sz: Real,
+}
+
+impl RayFrame {
+    /// The frame of `ray`.
+    #[inline]
+    pub fn new(ray: &Ray) -> RayFrame {
+        let d = ray.dir;
+        let kz = d.abs().max_position();
+        let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
+        let (dx, dy, dz) = (d[kx], d[ky], d[kz]);
+        RayFrame { k: [kx, ky, kz], sx: -dx / dz, sy: -dy / dz, sz: 1.0 / dz }
+    }
+}
+
+/// [`intersect`] with the ray's frame already made (`frame` must be `RayFrame::new(ray)`).
+#[inline(always)]
+pub fn intersect_in(frame: &RayFrame, p: [Vec3; 3], ray: &Ray, t_max: Real) -> Option<TriangleHit> {
+    let [kx, ky, kz] = frame.k;
     let permute = |v: Vec3| Vec3::new(v[kx], v[ky], v[kz]);
-    let d = permute(d);
-    let (sx, sy, sz) = (-d.x / d.z, -d.y / d.z, 1.0 / d.z);
+    let (sx, sy, sz) = (frame.sx, frame.sy, frame.sz);
     let mut q = p.map(|v| permute(v - ray.origin));
     for v in &mut q {
         v.x += sx * v.z;

@@ -10,7 +10,7 @@
 use crate::tracer::accel::bvh::Bvh;
 use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::geometry::hit::{Closest, Hit};
-use crate::tracer::geometry::triangle::{self, TriangleHit};
+use crate::tracer::geometry::triangle::{self, RayFrame, TriangleHit};
 use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
@@ -141,9 +141,10 @@ impl Mesh {
     pub fn closest(&self, ray: &Ray, t_max: Real) -> Option<(usize, TriangleHit)> {
         let mut closest = Closest::none(t_max);
         let mut barycentric = [0.0; 3];
+        let frame = RayFrame::new(ray);
         self.tree.traverse(ray, &mut closest, |leaf, closest| {
             for k in leaf {
-                if let Some(hit) = triangle::intersect(self.corners(k), ray, closest.bound()) {
+                if let Some(hit) = triangle::intersect_in(&frame, self.corners(k), ray, closest.bound()) {
                     closest.offer(hit.t, k as u32);
                     if closest.index == k as u32 {
                         barycentric = hit.barycentric;
