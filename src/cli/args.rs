@@ -10,7 +10,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::measure::grade::{Options, at_least_one};
-use crate::scenes::builtin::DEFAULT_SCENE_SEED;
+use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED};
 use crate::schedule::frame::DEFAULT_TILE;
 use crate::schedule::modes::Schedule;
 use crate::schedule::random::RngChoice;
@@ -206,6 +206,10 @@ pub struct BenchArgs {
     /// Thread counts to measure, e.g. `--threads 1,2,4,8,16` [default: 1, 2, … 2 × CPUs].
     #[arg(long, value_delimiter = ',', value_parser = at_least_one, conflicts_with = "paper")]
     pub threads: Vec<usize>,
+    /// Built-in scenes to measure, e.g. `--scenes final,cornell,next-week` [default: final and
+    /// the paper's three]; the paper's at its depth 10, the others at the book's 50.
+    #[arg(long, value_delimiter = ',', value_parser = builtin_name, conflicts_with = "paper")]
+    pub scenes: Vec<&'static str>,
     /// Small images and 3 runs, and the paper table at 2 spp (under 2 minutes on 2 cores),
     /// instead of the full preset.
     #[arg(long, conflicts_with = "paper")]
@@ -220,6 +224,16 @@ pub struct BenchArgs {
     /// Where to write speedup.md, speedup.csv and the plots.
     #[arg(long, default_value = "results", value_name = "DIR")]
     pub out_dir: PathBuf,
+}
+
+/// A built-in scene's name, as the scene list spells it.
+fn builtin_name(name: &str) -> Result<&'static str, String> {
+    let known = || BUILTINS.iter().map(|b| b.name).collect::<Vec<_>>().join(", ");
+    BUILTINS
+        .iter()
+        .find(|b| b.name == name)
+        .map(|b| b.name)
+        .ok_or_else(|| format!("not a built-in scene (they are: {})", known()))
 }
 
 /// Options of `raypool grade`.

@@ -24,18 +24,34 @@ pub fn run(args: &BenchArgs) -> Result<(), Error> {
         return Ok(());
     }
     let quick = args.quick;
-    let preset =
-        Preset { threads: args.threads.clone(), ..if quick { Preset::quick() } else { Preset::full() } };
+    let preset = if quick { Preset::quick() } else { Preset::full() };
+    let preset = Preset { threads: args.threads.clone(), ..preset }.on(&args.scenes);
     let outcome = run_benchmark(&preset, &[], |line| eprintln!("{line}"))?;
-    let command = if quick { "raypool bench --quick" } else { "raypool bench" };
-    write_reports(out_dir, &preset, &outcome, command)?;
+    let command = bench_command(args);
+    write_reports(out_dir, &preset, &outcome, &command)?;
     eprintln!("wrote {}/speedup.md, speedup.csv, speedup.png, timeline-*.png", out_dir.display());
     if quick {
         // A rough paper table too: 2 spp, scaled to the paper's 500 (labelled so).
-        write_paper(out_dir, QUICK_PAPER_SPP, command)?;
+        write_paper(out_dir, QUICK_PAPER_SPP, &command)?;
         eprintln!("wrote {}/paper-table.md (at {QUICK_PAPER_SPP} spp)", out_dir.display());
     }
     Ok(())
+}
+
+/// The command line that reproduces this run, for the report.
+fn bench_command(args: &BenchArgs) -> String {
+    let mut command = String::from("raypool bench");
+    if args.quick {
+        command.push_str(" --quick");
+    }
+    if !args.scenes.is_empty() {
+        command += &format!(" --scenes {}", args.scenes.join(","));
+    }
+    if !args.threads.is_empty() {
+        let threads: Vec<String> = args.threads.iter().map(usize::to_string).collect();
+        command += &format!(" --threads {}", threads.join(","));
+    }
+    command
 }
 
 /// Renders the paper's table at `spp` on one thread per CPU and writes `paper-table.md`.

@@ -60,6 +60,16 @@ impl Preset {
             threads: Vec::new(),
         }
     }
+
+    /// This preset on `scenes` instead (when not empty): the paper's figures at its depth
+    /// 10, every other scene at the book's 50.
+    pub fn on(self, scenes: &[&'static str]) -> Preset {
+        if scenes.is_empty() {
+            return self;
+        }
+        let depth = |name: &str| if name.starts_with("paper") { 10 } else { 50 };
+        Preset { scenes: scenes.iter().map(|&name| (name, depth(name))).collect(), ..self }
+    }
 }
 
 /// Per-thread `(start, end)` seconds of each tile a thread rendered.

@@ -82,7 +82,7 @@ fn markdown(preset: &Preset, outcome: &Outcome, command: &str, machine: &Machine
     let _ = writeln!(md, "Command: `{command}` (preset `{}`) · {}\n", preset.name, machine.describe());
     let _ = writeln!(
         md,
-        "Each scene rendered {} wide at {} spp (height from its aspect), tiles of {DEFAULT_TILE} px; `final` at max depth 50 (the book's), the paper's figures at 10 (the paper's). \
+        "Each scene rendered {} wide at {} spp (height from its aspect), tiles of {DEFAULT_TILE} px; the paper's figures at max depth 10 (the paper's), every other scene at 50 (the book's). \
          The benchmark runs in {} rounds; each round renders every configuration once, so that a shared machine's \
          drift over minutes hits every configuration alike. *median* is the median wall time; *speedup* is the median over rounds \
          of serial ÷ this configuration within the same round, and *× rayon* the median of this ÷ rayon at the same thread count \
