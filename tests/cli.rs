@@ -3,22 +3,10 @@
 
 mod deadline;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-use deadline::output_within;
-
-fn raypool(args: &[&str], dir: &Path) -> Output {
-    let what = format!("`raypool {}` to exit", args.first().unwrap_or(&""));
-    output_within(Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(dir), what)
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("raypool-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
+use deadline::{output_within, raypool, scratch};
 
 fn files_in(dir: &Path) -> Vec<String> {
     let mut names: Vec<_> = std::fs::read_dir(dir)
@@ -342,8 +330,23 @@ fn grade_writes_its_report_and_prints_it() {
     assert_eq!(String::from_utf8_lossy(&out.stdout).trim_end(), report.trim_end(), "printed as written");
     assert!(report.starts_with("# Grade: mode interleaved") && report.contains("Machine: nproc"), "{report}");
     assert!(report.contains("Conformance: **passed** at [1, 2] threads"), "{report}");
-    for workload in ["balanced", "one-band", "heavy-tail", "tiny-tiles", "many-frames"] {
+    for workload in ["balanced", "one-band", "heavy-tail", "tiny-tiles", "many-frames", "smoke-room"] {
         assert!(report.contains(&format!("| {workload} |")), "{workload} missing: {report}");
     }
     assert_eq!(files_in(&dir), ["g.md"], "no temporary file left over");
+}
+
+#[test]
+fn a_reader_that_stops_early_ends_the_output_quietly() {
+    // `head` closes the pipe after 10 bytes of the 120 KB scene: more than a pipe's buffer
+    // stays unwritten, so raypool's next write meets a closed pipe.
+    let dir = scratch("pipe");
+    let script = r#"set -o pipefail; "$0" scene next-week | head -c 10 > /dev/null"#;
+    let bin = env!("CARGO_BIN_EXE_raypool");
+    let out = output_within(
+        Command::new("bash").args(["-c", script, bin]).current_dir(&dir),
+        "`raypool scene | head` to exit",
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && stderr.is_empty(), "status {:?}, stderr: {stderr}", out.status);
 }

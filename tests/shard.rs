@@ -4,32 +4,14 @@
 
 mod deadline;
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
-use deadline::output_within;
+use deadline::{ok, raypool, scratch};
 
 use raypool::files::image::Image;
 use raypool::files::part::{Part, PartSettings, merge};
 use raypool::tracer::math::real::{Real, Vec3};
 use raypool::{RenderSettings, Shard, Tile};
-
-fn raypool(args: &[&str], dir: &Path) -> Output {
-    let what = format!("`raypool {}` to exit", args.first().unwrap_or(&""));
-    output_within(Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(dir), what)
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("raypool-shard-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn ok(out: Output) -> Output {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    out
-}
 
 /// Renders `scene` whole into `whole.pfm` and as `n` parts with the modes taken in turn,
 /// merges the parts, and returns (whole bytes, merged bytes).

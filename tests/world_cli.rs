@@ -4,27 +4,9 @@
 
 mod deadline;
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
-use deadline::output_within;
-
-fn raypool(args: &[&str], dir: &Path) -> Output {
-    let what = format!("`raypool {}` to exit", args.first().unwrap_or(&""));
-    output_within(Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(dir), what)
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("raypool-world-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
-fn ok(out: Output) -> Output {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    out
-}
+use deadline::{ok, raypool, scratch};
 
 /// The new scenes, each with what it exercises.
 const SCENES: &[&str] = &["cornell", "cornell-smoke", "next-week", "quads", "perlin", "bouncing", "mesh"];

@@ -23,8 +23,21 @@ mod bench;
 mod grade;
 mod compare;
 
+use std::io::{ErrorKind, Write};
+
 use crate::cli::args::{Cli, Command};
 use crate::error::Error;
+
+/// Writes `text` to standard output. A reader that has gone (`raypool scene final | head`)
+/// ends the output quietly, as Unix tools do; `print!` would panic there.
+fn output(text: &str) -> Result<(), Error> {
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() != ErrorKind::BrokenPipe => {
+            Err(Error::new(format!("cannot write to standard output: {e}")))
+        }
+        _ => Ok(()),
+    }
+}
 
 /// Runs one parsed command line (all but `view`, which the viewer layer runs: see `main.rs`).
 pub fn run(cli: Cli) -> Result<(), Error> {

@@ -3,6 +3,7 @@
 //! on this machine; prints the table and can write it as a report.
 
 use crate::cli::args::SimulateArgs;
+use crate::cli::output;
 use crate::cli::settings::{load_scene, render_job, render_settings, scene_name};
 use crate::error::Error;
 use crate::measure::machine::cpus;
@@ -39,7 +40,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let command =
         std::iter::once("raypool".to_string()).chain(std::env::args().skip(1)).collect::<Vec<_>>().join(" ");
     let study = Study { subject, command, costs, threads, serial_seconds, measured };
-    print!("{}", study.table());
+    output(&study.table())?;
     if let Some(dir) = &args.report {
         write_report(dir, &study)?;
         eprintln!("wrote {0}/scaling.md, {0}/scaling.csv, {0}/scaling.png", dir.display());

@@ -10,6 +10,7 @@
 #![allow(dead_code, unused_imports)] // each test file uses a part of these
 
 use std::io::Read;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
@@ -55,6 +56,27 @@ pub fn output_within(command: &mut Command, what: impl AsRef<str>) -> Output {
         })
     };
     Output { status, stdout: read(stdout), stderr: read(stderr) }
+}
+
+/// Runs `raypool args` in `dir` to completion under the deadline ([`output_within`]).
+pub fn raypool(args: &[&str], dir: &Path) -> Output {
+    let what = format!("`raypool {}` to exit", args.first().unwrap_or(&""));
+    output_within(Command::new(env!("CARGO_BIN_EXE_raypool")).args(args).current_dir(dir), what)
+}
+
+/// A fresh, empty scratch folder for test `name` of this test file and process.
+pub fn scratch(name: &str) -> PathBuf {
+    let file = env!("CARGO_CRATE_NAME");
+    let dir = std::env::temp_dir().join(format!("raypool-{file}-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// `out`, after checking that its command succeeded (else its stderr is the failure).
+pub fn ok(out: Output) -> Output {
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    out
 }
 
 /// Reads `pipe` to its end on a thread of its own; the bytes arrive on the returned channel.
