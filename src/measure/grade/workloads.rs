@@ -8,6 +8,7 @@
 //! | `heavy-tail` | big chunks, or an expensive tile left to the end |
 //! | `tiny-tiles` | per-job overhead: 2 × 2 tiles, four samples |
 //! | `many-frames` | per-frame overhead: 160 small frames in a row (threads or a pool started per frame) |
+//! | `smoke-room` | a cost of another kind: the second book's smoky Cornell box, where no path escapes to a sky |
 //! | `nested` (queues only) | the waiting rule: bands as jobs, each waiting on a batch of its tiles |
 //!
 //! Each workload takes 0.1–0.5 s on one thread of this project's 2-CPU machine: long enough
@@ -85,6 +86,14 @@ pub fn workloads(queue: bool) -> Vec<Workload> {
             width: 64,
             spp: 2,
             frames: 160,
+            ..base
+        },
+        Workload {
+            name: "smoke-room",
+            exposes: "a cost of another kind: a closed room lit by one lamp, smoke in two boxes; no path escapes to a sky",
+            scene: include_str!("../../scenes/cornell-smoke.toml"),
+            width: 160,
+            spp: 8,
             ..base
         },
     ];
