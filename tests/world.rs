@@ -255,3 +255,124 @@ fn a_checker_under_a_white_sky_shows_exactly_its_two_colours() {
         assert!((*p - odd.lerp(even, mix)).length() < 1e-5, "{p}: a blend of the two colours only");
     }
 }
+
+/// A mesh's search (its tree, and the ray's frame made once and shared by its triangles)
+/// finds exactly the hit that testing every triangle on its own finds, ties to the lower
+/// index: for rays aimed at the mesh's vertices and edge midpoints (where the f64 recompute
+/// and ties happen) and at random.
+#[test]
+fn a_mesh_search_finds_exactly_what_testing_every_triangle_finds() {
+    use raypool::measure::solids::{edges, icosphere};
+    use raypool::tracer::geometry::hit::Closest;
+    use raypool::tracer::geometry::triangle::intersect;
+    use raypool::tracer::world::mesh::Mesh;
+
+    let (points, triangles) = icosphere(3);
+    let positions: Vec<Vec3> =
+        points.iter().map(|p| Vec3::new(p.x as Real, p.y as Real, p.z as Real)).collect();
+    let mesh = Mesh::new(positions.clone(), vec![], vec![], triangles.clone()).expect("a closed mesh");
+    let every_triangle = |ray: &Ray| {
+        let mut closest = Closest::none(Real::INFINITY);
+        for (k, t) in mesh.triangles().iter().enumerate() {
+            if let Some(hit) = intersect(t.map(|i| mesh.positions()[i as usize]), ray, closest.bound()) {
+                closest.offer(hit.t, k as u32);
+            }
+        }
+        closest.found()
+    };
+    let mut targets: Vec<Vec3> = positions.clone();
+    targets.extend(edges(&triangles).iter().map(|&[a, b]| 0.5 * (positions[a] + positions[b])));
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut uniform = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 40) as Real / (1u64 << 24) as Real * 2.0 - 1.0
+    };
+    let mut rays = Vec::new();
+    for &target in &targets {
+        let origin = Vec3::new(3.0 * uniform(), 3.0 * uniform(), 3.0 + uniform());
+        rays.push(Ray::new(origin, (target - origin).normalize()));
+        // From inside, as a bounce off the far wall would start.
+        rays.push(Ray::new(0.1 * origin, (target - 0.1 * origin).normalize()));
+    }
+    for _ in 0..2000 {
+        let dir = Vec3::new(uniform(), uniform(), uniform()).normalize();
+        rays.push(Ray::new(Vec3::new(2.0 * uniform(), 2.0 * uniform(), 2.0 * uniform()), dir));
+    }
+    let mut hits = 0;
+    for ray in &rays {
+        let searched = mesh.closest(ray, Real::INFINITY).map(|(k, hit)| (k, hit.t));
+        assert_eq!(searched, every_triangle(ray), "the search and every triangle disagree on {ray:?}");
+        hits += usize::from(searched.is_some());
+    }
+    assert!(hits > rays.len() / 2, "only {hits} of {} rays hit: the test checks little", rays.len());
+}
+
+/// The fraction of the shutter `[0, 1)` during which `ray` meets the sphere of radius `r`
+/// whose centre moves from `c0` to `c1` (in front of the ray): where the centre's distance
+/// from the ray's line, a quadratic in time, is below `r`.
+fn time_covered(ray: &Ray, c0: [f64; 3], c1: [f64; 3], r: f64) -> f64 {
+    use glam::DVec3;
+    let (o, d) =
+        (DVec3::from(ray.origin.to_array().map(to_f64)), DVec3::from(ray.dir.to_array().map(to_f64)));
+    let d = d.normalize();
+    let across = |v: DVec3| v - v.dot(d) * d;
+    let (p0, dp) = (across(DVec3::from(c0) - o), across(DVec3::from(c1) - DVec3::from(c0)));
+    let (a, b, c) = (dp.dot(dp), 2.0 * p0.dot(dp), p0.dot(p0) - r * r);
+    let disc = b * b - 4.0 * a * c;
+    if disc <= 0.0 {
+        return 0.0;
+    }
+    let (t0, t1) = ((-b - disc.sqrt()) / (2.0 * a), (-b + disc.sqrt()) / (2.0 * a));
+    (t1.min(1.0) - t0.max(0.0)).max(0.0)
+}
+
+#[test]
+fn a_moving_light_leaves_a_streak_as_bright_as_the_share_of_the_shutter_it_covers() {
+    // A light sphere of radius 0.1 slides 1 unit across the view during the shutter, over a
+    // black background: a camera ray sees it for the share of the shutter its centre stays
+    // within 0.1 of the ray, so each pixel's mean is that share averaged over the pixel
+    // (32 × 32 points), to within the binomial noise of its samples.
+    use raypool::tracer::camera::Camera;
+    use raypool::tracer::sampling::sampler::Sampler;
+    let (c0, c1, r) = ([-0.5, 0.0, -2.0], [0.5, 0.0, -2.0], 0.1);
+    let text = format!(
+        "{CAMERA}[background]\nkind = \"black\"\n[[sphere]]\ncenter = {c0:?}\ncenter1 = {c1:?}\nradius = {r}\n\
+         material = {{ kind = \"diffuse_light\", emit = [1.0, 1.0, 1.0] }}\n"
+    );
+    let (side, spp) = (32u32, 256u32);
+    let settings = RenderSettings {
+        width: side,
+        height: side,
+        spp,
+        max_depth: 1,
+        sampler: Sampler::Independent,
+        ..Default::default()
+    };
+    let pixels = render(&text, settings);
+    let scene = SceneFile::parse(&text, "test.toml").unwrap().to_scene();
+    let camera = Camera::new(&scene.camera, side, side);
+    let grid = 32;
+    let mut streak = 0;
+    for j in 0..side {
+        for i in 0..side {
+            let at = |k: u32| (k as f64 + 0.5) / grid as f64;
+            let share = (0..grid * grid)
+                .map(|s| {
+                    let (x, y) = (i as f64 + at(s % grid), j as f64 + at(s / grid));
+                    time_covered(&camera.center_ray(x as Real, y as Real), c0, c1, r)
+                })
+                .sum::<f64>()
+                / (grid * grid) as f64;
+            let got = to_f64(pixels[(j * side + i) as usize].x);
+            let sigma = (share * (1.0 - share) / spp as f64).sqrt();
+            assert!(
+                (got - share).abs() <= 5.0 * sigma + 3e-3,
+                "pixel ({i}, {j}): {got}, expected {share} ± {sigma}"
+            );
+            streak += usize::from(share > 0.1);
+        }
+    }
+    let brightest = pixels.iter().map(|p| to_f64(p.x)).fold(0.0, f64::max);
+    // The streak is 1.2 units long, 16 px at this distance; the still sphere would be 3 px wide.
+    assert!(streak >= 16 && brightest < 0.5, "a streak, not a sphere: {streak} px, max {brightest}");
+}
