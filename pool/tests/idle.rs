@@ -13,7 +13,10 @@ fn thread_cpu() -> std::collections::HashMap<String, u64> {
         .filter_map(|task| {
             let task = task.ok()?;
             let stat = std::fs::read_to_string(task.path().join("schedstat")).ok()?;
-            Some((task.file_name().to_string_lossy().into_owned(), stat.split_whitespace().next()?.parse().ok()?))
+            Some((
+                task.file_name().to_string_lossy().into_owned(),
+                stat.split_whitespace().next()?.parse().ok()?,
+            ))
         })
         .collect()
 }
