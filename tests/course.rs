@@ -90,9 +90,9 @@ fn the_grader_times_a_conforming_submission_on_every_workload_and_thread_count()
         let report = grade(&submission, &options(vec![1, 2]), |_| {}).unwrap();
         assert_eq!(report.conformance, Ok(vec![1, 2]));
         let workloads: Vec<&str> = report.scores.iter().map(|s| s.workload).collect();
-        assert_eq!(workloads.len(), 10, "5 workloads × 2 thread counts: {workloads:?}");
+        assert_eq!(workloads.len(), 12, "6 workloads × 2 thread counts: {workloads:?}");
         assert!(report.scores.iter().all(|s| s.failure.is_none() && s.ratio > 0.0), "same images");
-        assert_eq!(report.scored().len(), 5, "the 1-thread rows are a baseline");
+        assert_eq!(report.scored().len(), 6, "the 1-thread rows are a baseline");
         let markdown = report.markdown("test");
         assert!(markdown.contains("Machine: nproc") && markdown.contains("**Score: "), "{markdown}");
     });

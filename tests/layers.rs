@@ -27,8 +27,10 @@ const LAYERS: &[(&str, u32)] = &[
 
 /// The tracer's rooms in reading order (`src/tracer/mod.rs`): a room may use itself and the
 /// rooms before it, never one after it.
-const TRACER_ROOMS: &[&str] =
-    &["math", "sampling", "geometry", "shading", "accel", "world", "camera", "scene", "tile", "render"];
+const TRACER_ROOMS: &[&str] = &[
+    "math", "sampling", "geometry", "shading", "accel", "world", "camera", "scene", "lighting", "tile",
+    "render",
+];
 
 /// The only modules of the command line that the viewer may reach, directly or through them:
 /// the flags and what they resolve to, never `cli` itself or a command's file.

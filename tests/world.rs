@@ -2,6 +2,7 @@
 //! emission, quad, instance, medium or moving sphere fails them, whatever the sampling.
 
 use raypool::scenes::format::SceneFile;
+use raypool::tracer::lighting::LightSampling;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3, to_f64};
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
@@ -45,21 +46,38 @@ fn inward_cube(material: &str) -> String {
 #[test]
 fn a_closed_box_of_emitting_reflecting_walls_has_radiance_le_times_the_geometric_sum() {
     // Every path stays in the box and every hit adds a^k·Le: after D rays, Le·(1 − a^D)/(1 − a),
-    // the same for every pixel and sample (only rounding differs).
+    // the same for every pixel and sample under `bsdf` (only rounding differs). Under
+    // `mixture` and `mis` (every wall is a light to aim at) each sample is noisy, but every
+    // pixel has that same mean: their spread over the image is the noise the mean is held to.
     let (le, a) = (0.75, 0.5);
     for depth in [1u32, 2, 5, 12] {
         let material = format!("{{ kind = \"diffuse_light\", emit = [{le}, {le}, {le}], albedo = {a} }}");
         let text = format!("{CAMERA}[background]\nkind = \"black\"\n{}", inward_cube(&material));
-        let settings =
-            RenderSettings { width: 12, height: 12, spp: 4, max_depth: depth, ..Default::default() };
         let expected = le * (1.0 - f64::powi(a, depth as i32)) / (1.0 - a);
-        for p in render(&text, settings) {
-            for c in p.to_array() {
-                assert!(
-                    (to_f64(c) - expected).abs() < 1e-5 * expected,
-                    "depth {depth}: {c} against {expected}"
-                );
+        for light_sampling in [LightSampling::Bsdf, LightSampling::Mixture, LightSampling::Mis] {
+            let settings = RenderSettings {
+                width: 12,
+                height: 12,
+                spp: 4,
+                max_depth: depth,
+                light_sampling,
+                ..Default::default()
+            };
+            let values: Vec<f64> =
+                render(&text, settings).iter().flat_map(|p| p.to_array().map(to_f64)).collect();
+            if light_sampling == LightSampling::Bsdf {
+                for c in values {
+                    assert!((c - expected).abs() < 1e-5 * expected, "depth {depth}: {c} against {expected}");
+                }
+                continue;
             }
+            let n = values.len() as f64;
+            let mean = values.iter().sum::<f64>() / n;
+            let spread = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+            assert!(
+                (mean - expected).abs() <= 5.0 * spread / n.sqrt() + 1e-5 * expected,
+                "{light_sampling:?}, depth {depth}: mean {mean} against {expected} (noise {spread} a pixel)"
+            );
         }
     }
 }
@@ -375,4 +393,63 @@ fn a_moving_light_leaves_a_streak_as_bright_as_the_share_of_the_shutter_it_cover
     let brightest = pixels.iter().map(|p| to_f64(p.x)).fold(0.0, f64::max);
     // The streak is 1.2 units long, 16 px at this distance; the still sphere would be 3 px wide.
     assert!(streak >= 16 && brightest < 0.5, "a streak, not a sphere: {streak} px, max {brightest}");
+}
+
+/// The mean image of `scene` under `light_sampling` over 8 seeds, per quadrant and channel:
+/// the mean of the 8 and its standard error.
+fn quadrant_means(scene: &str, light_sampling: LightSampling) -> Vec<(f64, f64)> {
+    let text = raypool::scenes::builtin::builtin_scene(scene, 0).unwrap().to_toml();
+    let side = 16;
+    let runs: Vec<Vec<f64>> = (1..=8)
+        .map(|seed| {
+            let settings = RenderSettings {
+                width: side,
+                height: side,
+                spp: 64,
+                seed,
+                light_sampling,
+                ..Default::default()
+            };
+            let pixels = render(&text, settings);
+            let mut sums = vec![0.0; 12];
+            for (k, p) in pixels.iter().enumerate() {
+                let (i, j) = (k as u32 % side, k as u32 / side);
+                let quadrant = (2 * (j / (side / 2)) + i / (side / 2)) as usize;
+                for (c, v) in p.to_array().iter().enumerate() {
+                    sums[3 * quadrant + c] += to_f64(*v) / (side * side / 4) as f64;
+                }
+            }
+            sums
+        })
+        .collect();
+    (0..12)
+        .map(|k| {
+            let values: Vec<f64> = runs.iter().map(|r| r[k]).collect();
+            let mean = values.iter().sum::<f64>() / 8.0;
+            let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 7.0;
+            (mean, (variance / 8.0).sqrt())
+        })
+        .collect()
+}
+
+#[test]
+fn the_three_light_samplings_converge_to_the_same_image() {
+    // Each quadrant's mean colour under `mixture` and `mis` against `bsdf`'s, within 5
+    // standard errors measured from 8 independent renders of each (not a guessed tolerance),
+    // on the Cornell box (a quad light) and its smoky twin (light through media).
+    for scene in ["cornell", "cornell-smoke"] {
+        let reference = quadrant_means(scene, LightSampling::Bsdf);
+        for light_sampling in [LightSampling::Mixture, LightSampling::Mis] {
+            let other = quadrant_means(scene, light_sampling);
+            for (k, ((a, sa), (b, sb))) in reference.iter().zip(&other).enumerate() {
+                let limit = 5.0 * (sa * sa + sb * sb).sqrt();
+                assert!(
+                    (a - b).abs() <= limit,
+                    "{scene}, quadrant {} channel {}: bsdf {a} ± {sa}, {light_sampling:?} {b} ± {sb}",
+                    k / 3,
+                    k % 3
+                );
+            }
+        }
+    }
 }

@@ -44,6 +44,34 @@ fn every_mode_thread_count_and_accel_gives_the_same_bytes_on_every_new_scene() {
 }
 
 #[test]
+fn every_light_sampling_gives_the_same_bytes_under_every_mode_and_shard() {
+    // The default (`mis`) is covered above; the other two draw their own numbers (a coin, a
+    // point on a light), still from each sample's own stream.
+    for light_sampling in ["bsdf", "mixture", "mis"] {
+        let dir = scratch(&format!("lights-{light_sampling}"));
+        let render_with = |run: &[&str], out: &str| {
+            let mut args = run.to_vec();
+            args.extend(["--light-sampling", light_sampling, "--tile", "6"]);
+            render(&dir, "cornell-smoke", &args, out)
+        };
+        let serial = render_with(&["--mode", "serial"], "serial.pfm");
+        for (k, run) in [&["--mode", "static", "--threads", "2"][..], &["--mode", "steal", "--threads", "3"]]
+            .iter()
+            .enumerate()
+        {
+            let bytes = render_with(run, &format!("{k}.pfm"));
+            assert!(bytes == serial, "{light_sampling}: {run:?} changed the image");
+        }
+        let parts = ["p0.rpart", "p1.rpart"];
+        for (k, part) in parts.iter().enumerate() {
+            render_with(&["--shard", &format!("{k}/2")], part);
+        }
+        ok(raypool(&["merge", "--out", "merged.pfm", parts[0], parts[1]], &dir));
+        assert!(std::fs::read(dir.join("merged.pfm")).unwrap() == serial, "{light_sampling}: shards differ");
+    }
+}
+
+#[test]
 fn shards_merge_into_the_one_process_image_on_the_new_scenes() {
     for scene in ["next-week", "cornell-smoke", "bouncing"] {
         let dir = scratch(&format!("shards-{scene}"));

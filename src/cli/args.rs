@@ -14,6 +14,7 @@ use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED};
 use crate::schedule::frame::DEFAULT_TILE;
 use crate::schedule::modes::Schedule;
 use crate::schedule::random::RngChoice;
+use crate::tracer::lighting::LightSampling;
 use crate::tracer::render::MAX_SIDE;
 use crate::tracer::sampling::sampler::Sampler;
 use crate::tracer::scene::{Accel, Scene};
@@ -105,6 +106,11 @@ pub struct ImageArgs {
     /// [default: sobol; independent with --rng shared].
     #[arg(long, value_enum)]
     pub sampler: Option<Sampler>,
+    /// How paths find a scene's lights: the material's bounce only (bsdf), half the bounces
+    /// aimed at a light (mixture), or a shadow ray to a light at every diffuse hit weighed
+    /// against the bounce (mis: multiple importance sampling). All give the same mean image.
+    #[arg(long, value_enum, default_value_t = LightSampling::Mis)]
+    pub light_sampling: LightSampling,
     /// Tile side in pixels, for the tiled modes (pool, steal).
     #[arg(long, default_value_t = DEFAULT_TILE, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
     pub tile: u32,

@@ -52,6 +52,7 @@ pub fn render_settings(args: &ImageArgs, scene: &SceneFile, rng: RngChoice) -> R
         roulette: args.roulette,
         adaptive,
         sampler: sampler(args, rng)?,
+        light_sampling: args.light_sampling,
         ..RenderSettings::default()
     })
 }

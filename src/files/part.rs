@@ -65,6 +65,8 @@ pub struct PartSettings {
     pub stop_black_paths: bool,
     /// `independent` or `sobol`.
     pub sampler: String,
+    /// `bsdf`, `mixture` or `mis`.
+    pub light_sampling: String,
     /// Adaptive sampling's target error, if on.
     pub target_error: Option<f64>,
     /// Adaptive sampling's samples per pass, if on.
@@ -91,6 +93,7 @@ impl PartSettings {
             roulette: settings.roulette,
             stop_black_paths: settings.stop_black_paths,
             sampler: settings.sampler.name().to_string(),
+            light_sampling: settings.light_sampling.name().to_string(),
             target_error: settings.adaptive.map(|a| to_f64(a.target_error)),
             min_spp: settings.adaptive.map(|a| a.min_spp),
             tile,

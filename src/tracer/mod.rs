@@ -10,6 +10,7 @@
 //! | [`world`] | what the second book builds from shapes: groups, meshes, instances, media |
 //! | [`camera`] | rays from pixels through a thin lens |
 //! | [`scene`] | the scene that holds them all, and the one hit search that dispatches to the chosen tree |
+//! | [`lighting`] | how a path finds the lights: a material's bounce, the mixture, or multiple importance sampling |
 //! | [`tile`] | how an image is cut into tiles, and tiles into shards |
 //! | [`render`] | the one render loop that turns a tile of pixels into colours |
 //!
@@ -30,5 +31,6 @@ pub mod accel;
 pub mod world;
 pub mod camera;
 pub mod scene;
+pub mod lighting;
 pub mod tile;
 pub mod render;

@@ -14,6 +14,7 @@ use glam::DVec3;
 use crate::error::Error;
 use crate::tracer::camera::Camera;
 use crate::tracer::geometry::hit::Hit;
+use crate::tracer::lighting::{LightSampling, PI, SHADOW_KEY, mixture_bounce, next_event, power_heuristic};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3};
 use crate::tracer::sampling::independent::mix;
@@ -68,6 +69,9 @@ pub struct RenderSettings {
     pub adaptive: Option<Adaptive>,
     /// Which numbers the samples draw: independent, or a scrambled Sobol sequence per pixel.
     pub sampler: Sampler,
+    /// How a path at a diffuse surface finds the scene's lights (a scene without lights
+    /// ignores it).
+    pub light_sampling: LightSampling,
 }
 
 impl Default for RenderSettings {
@@ -83,6 +87,7 @@ impl Default for RenderSettings {
             roulette: false,
             adaptive: None,
             sampler: Sampler::default(),
+            light_sampling: LightSampling::default(),
         }
     }
 }
@@ -325,14 +330,19 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
 ) -> Vec3 {
     let mut radiance = Vec3::ZERO;
     let mut throughput = Vec3::ONE;
+    // Where the lights are sampled (a second-book scene with lights, and not `bsdf`).
+    let aiming =
+        if WORLD && !scene.lights().is_empty() { settings.light_sampling } else { LightSampling::Bsdf };
+    // The previous hit's point and its material's density for the bounce that led here, if
+    // that bounce was weighed against a light sample (MIS): an emitter it reaches is then
+    // weighted by the power heuristic. Otherwise an emitter counts whole.
+    let mut weighed: Option<(Vec3, Real)> = None;
     for cast in 1..=settings.max_depth {
         *rays += 1;
-        let found = if WORLD {
-            let medium_seed = if scene.has_media() { mix(start.medium_seed ^ u64::from(cast)) } else { 0 };
-            scene.hit_world(&ray, &Probe { medium_seed, ..start })
-        } else {
-            closest_hit(&ray)
-        };
+        let medium_seed =
+            if WORLD && scene.has_media() { mix(start.medium_seed ^ u64::from(cast)) } else { 0 };
+        let found =
+            if WORLD { scene.hit_world(&ray, &Probe { medium_seed, ..start }) } else { closest_hit(&ray) };
         let Some(hit) = found else {
             let sky = throughput * scene.background.radiance(ray.dir);
             return if WORLD { radiance + sky } else { sky };
@@ -340,11 +350,36 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
         rng.bounce(cast - 1);
         let material = scene.material(&hit);
         if WORLD {
-            radiance += throughput * material.emitted(&hit);
+            let emitted = material.emitted(&hit);
+            let weight = match weighed {
+                Some((from, bsdf_pdf)) if emitted != Vec3::ZERO => {
+                    power_heuristic(bsdf_pdf, scene.lights().pdf(from, ray.dir))
+                }
+                _ => 1.0,
+            };
+            radiance += throughput * emitted * weight;
         }
-        let Some(scatter) = material.scatter(ray.dir, &hit, &scene.textures, rng) else {
+        let Some(mut scatter) = material.scatter(ray.dir, &hit, &scene.textures, rng) else {
             return radiance;
         };
+        weighed = None;
+        if aiming != LightSampling::Bsdf && material.is_diffuse() {
+            match aiming {
+                LightSampling::Mis if cast < settings.max_depth => {
+                    rng.light(cast - 1);
+                    let shadow = Probe { medium_seed: medium_seed ^ SHADOW_KEY, ..start };
+                    radiance += throughput * scatter.attenuation * next_event(scene, &hit, shadow, rng, rays);
+                    weighed = Some((hit.point, scatter.direction.dot(hit.normal).max(0.0) / PI));
+                }
+                LightSampling::Mixture => {
+                    rng.light(cast - 1);
+                    if !mixture_bounce(scene.lights(), &hit, &mut scatter, rng) {
+                        return radiance;
+                    }
+                }
+                _ => {}
+            }
+        }
         throughput *= scatter.attenuation;
         if settings.stop_black_paths && throughput == Vec3::ZERO {
             return radiance;

@@ -23,6 +23,7 @@ use crate::tracer::math::real::Real;
 use crate::tracer::shading::background::Background;
 use crate::tracer::shading::material::Material;
 use crate::tracer::shading::texture::Textures;
+use crate::tracer::world::lights::Lights;
 use crate::tracer::world::object::{Group, TREE_MIN_OBJECTS};
 use crate::tracer::world::object::{Object, Probe};
 
@@ -101,6 +102,8 @@ pub struct Scene {
     motion: bool,
     /// Whether any object is a participating medium.
     media: bool,
+    /// The emitters paths can aim at (none in a first-book scene).
+    lights: Lights,
 }
 
 impl Scene {
@@ -139,6 +142,7 @@ impl Scene {
         let first_book = objects.is_empty() && materials.iter().all(Material::is_first_book);
         if !first_book {
             let objects: Vec<Object> = spheres.into_iter().map(Object::Sphere).chain(objects).collect();
+            let lights = Lights::new(&objects, &materials);
             let objects = Group::new(objects);
             let (motion, media) = objects.needs();
             let accel = if objects.has_tree() { Accel::Wide } else { Accel::Flat };
@@ -156,6 +160,7 @@ impl Scene {
                 first_book,
                 motion,
                 media,
+                lights,
             };
         }
         let accel = match spheres.len() {
@@ -177,6 +182,7 @@ impl Scene {
             first_book,
             motion: false,
             media: false,
+            lights: Lights::default(),
         };
         scene.with_accel(accel)
     }
@@ -270,6 +276,11 @@ impl Scene {
     #[inline]
     pub fn hit_world(&self, ray: &Ray, probe: &Probe) -> Option<Hit> {
         self.objects.hit(ray, Real::INFINITY, probe)
+    }
+
+    /// The emitters paths can aim at.
+    pub fn lights(&self) -> &Lights {
+        &self.lights
     }
 
     /// How hits are found.

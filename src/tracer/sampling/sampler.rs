@@ -49,6 +49,12 @@ pub trait SampleRng: Rng {
     fn bounce(&mut self, bounce: u32) {
         let _ = bounce;
     }
+
+    /// The next numbers (up to four: a coin, the choice of a light, a point on it) aim bounce
+    /// `bounce`'s hit at a light. Until the next [`SampleRng::bounce`].
+    fn light(&mut self, bounce: u32) {
+        let _ = bounce;
+    }
 }
 
 impl SampleRng for SmallRng {}

@@ -124,6 +124,17 @@ impl Material {
         }
     }
 
+    /// Whether [`Material::scatter`] draws its direction with the cosine density `cos θ/π`
+    /// about the normal (a diffuse material, or a light that reflects): where light sampling
+    /// can weigh its bounce against a light's.
+    pub fn is_diffuse(&self) -> bool {
+        match *self {
+            Material::Lambertian { .. } | Material::Textured { .. } => true,
+            Material::DiffuseLight { albedo, .. } => albedo > 0.0,
+            _ => false,
+        }
+    }
+
     /// Whether the first book's render loop handles this material (no texture, no light, no
     /// medium).
     pub fn is_first_book(&self) -> bool {

@@ -7,5 +7,6 @@
 //! A scene of the first book's spheres and materials never touches this room: it keeps its
 //! own sphere search, and its rays pay for nothing here (`scene.rs`, `render.rs`).
 
+pub mod lights;
 pub mod mesh;
 pub mod object;

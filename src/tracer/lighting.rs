@@ -1,0 +1,133 @@
+//! **Lighting**: how a path at a diffuse surface finds the scene's lights (`--light-sampling`),
+//! the third book's importance sampling and pbrt's multiple importance sampling. The render
+//! loop (`render.rs`) calls these at each diffuse hit; the lights themselves, and the density
+//! with which each direction is drawn towards them, are `world/lights.rs`'s.
+//!
+//! - `bsdf`: the material's bounce only; a light counts when a bounce happens to hit it.
+//! - `mixture`: the bounce drawn half the time towards a light ([`mixture_bounce`]) and
+//!   weighted by the mixture's density `½·p_light + ½·cos/π`, so the estimate stays unbiased.
+//! - `mis`: a shadow ray to a light at every diffuse hit ([`next_event`]), and the material's
+//!   bounce as well; each of the two ways of finding a light is weighted by the power
+//!   heuristic ([`power_heuristic`]) against the other's density, so a light found both ways
+//!   is counted once, and never with more noise than the better of the two (Veach 1997).
+//!
+//! Invariant: a light sampled here and a light met by a bounce use the same density
+//! ([`Lights::pdf`](crate::tracer::world::lights::Lights::pdf)), and a path's last ray gets no
+//! shadow ray (it could not have met a light by bouncing either), so the three settings
+//! estimate the same image at every `max_depth`.
+
+use crate::tracer::geometry::hit::Hit;
+use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::sampling::sampler::SampleRng;
+use crate::tracer::sampling::warp::uniform;
+use crate::tracer::scene::Scene;
+use crate::tracer::shading::material::Scatter;
+use crate::tracer::world::lights::Lights;
+use crate::tracer::world::object::Probe;
+
+/// How paths find the lights (`--light-sampling`): three unbiased estimators of the same
+/// image, with different noise.
+///
+/// ```
+/// use raypool::tracer::lighting::LightSampling;
+/// assert_eq!(LightSampling::default(), LightSampling::Mis);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
+pub enum LightSampling {
+    /// The material's scattering only: a light is found when a bounce happens to hit it
+    /// (the second book's estimator).
+    Bsdf,
+    /// Each diffuse bounce drawn half the time towards a light, half by the material, and
+    /// weighted by the mixture's density (the third book's).
+    Mixture,
+    /// A shadow ray to a light at every diffuse hit, plus the material's bounce, each
+    /// weighted by the power heuristic (multiple importance sampling, as pbrt and Mitsuba).
+    #[default]
+    Mis,
+}
+
+impl LightSampling {
+    /// The `--light-sampling` name.
+    pub fn name(self) -> &'static str {
+        match self {
+            LightSampling::Bsdf => "bsdf",
+            LightSampling::Mixture => "mixture",
+            LightSampling::Mis => "mis",
+        }
+    }
+}
+
+/// Keys a shadow ray's medium numbers apart from its path's.
+pub const SHADOW_KEY: u64 = 0x5ad0_0000_0000_0001;
+
+/// π in the tracer's precision.
+pub const PI: Real = std::f64::consts::PI as Real;
+
+/// The power heuristic's weight (β = 2) for a sample drawn with density `chosen` that the
+/// other strategy would have drawn with density `other`.
+#[inline]
+pub fn power_heuristic(chosen: Real, other: Real) -> Real {
+    let (a, b) = (chosen * chosen, other * other);
+    if a + b > 0.0 { a / (a + b) } else { 0.0 }
+}
+
+/// Next-event estimation: light arriving at the diffuse `hit` from a light sample, per unit
+/// albedo: one shadow ray
+/// towards a point drawn on a light; if nothing stands between, the light's emission times
+/// cos/π over the light's density, weighted by the power heuristic against the material's
+/// density cos/π. Counts the shadow ray in `rays`.
+#[inline]
+pub fn next_event<R: SampleRng + ?Sized>(
+    scene: &Scene,
+    hit: &Hit,
+    probe: Probe,
+    rng: &mut R,
+    rays: &mut u64,
+) -> Vec3 {
+    let lights = scene.lights();
+    let Some(toward) = lights.sample(hit.point, rng) else { return Vec3::ZERO };
+    let cos = toward.dir.dot(hit.normal);
+    if cos <= 0.0 {
+        return Vec3::ZERO;
+    }
+    *rays += 1;
+    let shadow = hit.spawn(toward.dir);
+    // Visible if the first thing the shadow ray meets is an emitter, no nearer than the
+    // light's point (less a thousandth, for the spawn offset and rounding).
+    let Some(blocker) = scene.hit_world(&shadow, &probe) else { return Vec3::ZERO };
+    if blocker.t < 0.999 * toward.distance {
+        return Vec3::ZERO;
+    }
+    let emitted = scene.material(&blocker).emitted(&blocker);
+    let light_pdf = lights.pdf(hit.point, toward.dir);
+    if emitted == Vec3::ZERO || light_pdf <= 0.0 {
+        return Vec3::ZERO;
+    }
+    let bsdf_pdf = cos / PI;
+    emitted * (bsdf_pdf / light_pdf) * power_heuristic(light_pdf, bsdf_pdf)
+}
+
+/// The third book's mixture: with probability ½ the bounce's direction is replaced by one
+/// towards a light, and the bounce is weighted by `(cos/π) / (½·p_light + ½·cos/π)` instead of
+/// 1 (its attenuation is the material's albedo times that). `false` ends the path: a direction
+/// below the surface, or a light that cannot be aimed at from here (inside its sphere; its
+/// density is then 0 in `pdf`, so ending the path is what keeps the estimate unbiased).
+#[inline]
+pub fn mixture_bounce<R: SampleRng + ?Sized>(
+    lights: &Lights,
+    hit: &Hit,
+    scatter: &mut Scatter,
+    rng: &mut R,
+) -> bool {
+    if uniform(rng) < 0.5 {
+        let Some(toward) = lights.sample(hit.point, rng) else { return false };
+        scatter.direction = toward.dir;
+    }
+    let cos = scatter.direction.dot(hit.normal);
+    let mixture = 0.5 * lights.pdf(hit.point, scatter.direction) + 0.5 * cos.max(0.0) / PI;
+    if cos <= 0.0 || mixture <= 0.0 {
+        return false;
+    }
+    scatter.attenuation *= cos / PI / mixture;
+    true
+}
