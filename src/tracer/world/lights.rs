@@ -129,7 +129,11 @@ impl Lights {
                 let (s, c) = (2.0 * PI_REAL * b).sin_cos();
                 let (t1, t2) = axis.any_orthonormal_pair();
                 let dir = (cos * axis + sin * (c * t1 + s * t2)).normalize();
-                let distance = sphere.intersect(&Ray::new(from, dir), Real::INFINITY)?;
+                // The near side of the sphere along `dir`, from the angle itself (as pbrt
+                // does): a ray test would miss now and then at the cone's grazing edge.
+                let d = (sphere.center - from).length();
+                let r = sphere.radius;
+                let distance = d * cos - (r * r - d * d * sin * sin).max(0.0).sqrt();
                 Some(LightSample { dir, distance })
             }
         }
