@@ -72,10 +72,9 @@ pub fn power_heuristic(chosen: Real, other: Real) -> Real {
 }
 
 /// Next-event estimation: light arriving at the diffuse `hit` from a light sample, per unit
-/// albedo: one shadow ray
-/// towards a point drawn on a light; if nothing stands between, the light's emission times
-/// cos/π over the light's density, weighted by the power heuristic against the material's
-/// density cos/π. Counts the shadow ray in `rays`.
+/// albedo. One shadow ray towards a point drawn on a light; if nothing stands between, the
+/// light's emission times cos/π over the light's density, weighted by the power heuristic
+/// against the material's density cos/π. Counts the shadow ray in `rays`.
 #[inline]
 pub fn next_event<R: SampleRng + ?Sized>(
     scene: &Scene,
