@@ -6,7 +6,8 @@
 //! - `bsdf`: the material's bounce only; a light counts when a bounce happens to hit it.
 //! - `mixture`: the bounce drawn half the time towards a light ([`mixture_bounce`]) and
 //!   weighted by the mixture's density `½·p_light + ½·cos/π`, so the estimate stays unbiased.
-//! - `mis`: a shadow ray to a light at every diffuse hit ([`next_event`]), and the material's
+//! - `mis`: a shadow ray to a light at every diffuse hit and every scattering in fog
+//!   ([`next_event`]), and the material's
 //!   bounce as well; each of the two ways of finding a light is weighted by the power
 //!   heuristic ([`power_heuristic`]) against the other's density, so a light found both ways
 //!   is counted once, and never with more noise than the better of the two (Veach 1997).
@@ -21,7 +22,7 @@ use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
-use crate::tracer::shading::material::Scatter;
+use crate::tracer::shading::material::{Lobe, Scatter};
 use crate::tracer::world::lights::Lights;
 use crate::tracer::world::object::Probe;
 
@@ -71,22 +72,35 @@ pub fn power_heuristic(chosen: Real, other: Real) -> Real {
     if a + b > 0.0 { a / (a + b) } else { 0.0 }
 }
 
-/// Next-event estimation: light arriving at the diffuse `hit` from a light sample, per unit
-/// albedo. One shadow ray towards a point drawn on a light; if nothing stands between, the
-/// light's emission times cos/π over the light's density, weighted by the power heuristic
-/// against the material's density cos/π. Counts the shadow ray in `rays`.
+/// The density with which a material of `lobe` scatters into the unit direction `dir` at a
+/// hit with normal `normal`; for both lobes also the scattered light's factor per unit albedo
+/// (a Lambertian's `cos/π`, the phase function's `1/4π`).
+#[inline]
+pub fn lobe_pdf(lobe: Lobe, dir: Vec3, normal: Vec3) -> Real {
+    match lobe {
+        Lobe::Cosine => dir.dot(normal).max(0.0) / PI,
+        Lobe::Sphere => 0.25 / PI,
+    }
+}
+
+/// Next-event estimation: light arriving at `hit` (of a material that scatters by `lobe`)
+/// from a light sample, per unit albedo. One shadow ray towards a point drawn on a light; if
+/// nothing stands between (no surface, no scattering in a medium on the way), the light's
+/// emission times the lobe's factor over the light's density, weighted by the power
+/// heuristic against the lobe's density. Counts the shadow ray in `rays`.
 #[inline]
 pub fn next_event<R: SampleRng + ?Sized>(
     scene: &Scene,
     hit: &Hit,
+    lobe: Lobe,
     probe: Probe,
     rng: &mut R,
     rays: &mut u64,
 ) -> Vec3 {
     let lights = scene.lights();
     let Some(toward) = lights.sample(hit.point, rng) else { return Vec3::ZERO };
-    let cos = toward.dir.dot(hit.normal);
-    if cos <= 0.0 {
+    let bsdf_pdf = lobe_pdf(lobe, toward.dir, hit.normal);
+    if bsdf_pdf <= 0.0 {
         return Vec3::ZERO;
     }
     *rays += 1;
@@ -102,19 +116,19 @@ pub fn next_event<R: SampleRng + ?Sized>(
     if emitted == Vec3::ZERO || light_pdf <= 0.0 {
         return Vec3::ZERO;
     }
-    let bsdf_pdf = cos / PI;
     emitted * (bsdf_pdf / light_pdf) * power_heuristic(light_pdf, bsdf_pdf)
 }
 
 /// The third book's mixture: with probability ½ the bounce's direction is replaced by one
-/// towards a light, and the bounce is weighted by `(cos/π) / (½·p_light + ½·cos/π)` instead of
-/// 1 (its attenuation is the material's albedo times that). `false` ends the path: a direction
-/// below the surface, or a light that cannot be aimed at from here (inside its sphere; its
-/// density is then 0 in `pdf`, so ending the path is what keeps the estimate unbiased).
+/// towards a light, and the bounce is weighted by `p_lobe / (½·p_light + ½·p_lobe)` instead
+/// of 1 (its attenuation is the material's albedo times that). `false` ends the path: a
+/// direction below the surface, or a light that cannot be aimed at from here (inside its
+/// sphere; its density is then 0 in `pdf`, so ending the path keeps the estimate unbiased).
 #[inline]
 pub fn mixture_bounce<R: SampleRng + ?Sized>(
     lights: &Lights,
     hit: &Hit,
+    lobe: Lobe,
     scatter: &mut Scatter,
     rng: &mut R,
 ) -> bool {
@@ -122,11 +136,11 @@ pub fn mixture_bounce<R: SampleRng + ?Sized>(
         let Some(toward) = lights.sample(hit.point, rng) else { return false };
         scatter.direction = toward.dir;
     }
-    let cos = scatter.direction.dot(hit.normal);
-    let mixture = 0.5 * lights.pdf(hit.point, scatter.direction) + 0.5 * cos.max(0.0) / PI;
-    if cos <= 0.0 || mixture <= 0.0 {
+    let lobe_density = lobe_pdf(lobe, scatter.direction, hit.normal);
+    let mixture = 0.5 * lights.pdf(hit.point, scatter.direction) + 0.5 * lobe_density;
+    if lobe_density <= 0.0 || mixture <= 0.0 {
         return false;
     }
-    scatter.attenuation *= cos / PI / mixture;
+    scatter.attenuation *= lobe_density / mixture;
     true
 }

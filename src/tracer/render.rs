@@ -14,7 +14,9 @@ use glam::DVec3;
 use crate::error::Error;
 use crate::tracer::camera::Camera;
 use crate::tracer::geometry::hit::Hit;
-use crate::tracer::lighting::{LightSampling, PI, SHADOW_KEY, mixture_bounce, next_event, power_heuristic};
+use crate::tracer::lighting::{
+    LightSampling, SHADOW_KEY, lobe_pdf, mixture_bounce, next_event, power_heuristic,
+};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3};
 use crate::tracer::sampling::independent::mix;
@@ -363,17 +365,17 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
             return radiance;
         };
         weighed = None;
-        if aiming != LightSampling::Bsdf && material.is_diffuse() {
+        if let Some(lobe) = material.lobe().filter(|_| aiming != LightSampling::Bsdf) {
+            rng.light(cast - 1);
             match aiming {
                 LightSampling::Mis if cast < settings.max_depth => {
-                    rng.light(cast - 1);
                     let shadow = Probe { medium_seed: medium_seed ^ SHADOW_KEY, ..start };
-                    radiance += throughput * scatter.attenuation * next_event(scene, &hit, shadow, rng, rays);
-                    weighed = Some((hit.point, scatter.direction.dot(hit.normal).max(0.0) / PI));
+                    let direct = next_event(scene, &hit, lobe, shadow, rng, rays);
+                    radiance += throughput * scatter.attenuation * direct;
+                    weighed = Some((hit.point, lobe_pdf(lobe, scatter.direction, hit.normal)));
                 }
                 LightSampling::Mixture => {
-                    rng.light(cast - 1);
-                    if !mixture_bounce(scene.lights(), &hit, &mut scatter, rng) {
+                    if !mixture_bounce(scene.lights(), &hit, lobe, &mut scatter, rng) {
                         return radiance;
                     }
                 }

@@ -124,14 +124,16 @@ impl Material {
         }
     }
 
-    /// Whether [`Material::scatter`] draws its direction with the cosine density `cos θ/π`
-    /// about the normal (a diffuse material, or a light that reflects): where light sampling
-    /// can weigh its bounce against a light's.
-    pub fn is_diffuse(&self) -> bool {
+    /// How [`Material::scatter`] draws its direction, for a material whose bounce a light
+    /// sample can be weighed against: a diffuse material (or a light that reflects) draws
+    /// with the cosine density, fog by the isotropic phase function; `None` for mirrors and
+    /// glass (a single direction: no light sample can land on it).
+    pub fn lobe(&self) -> Option<Lobe> {
         match *self {
-            Material::Lambertian { .. } | Material::Textured { .. } => true,
-            Material::DiffuseLight { albedo, .. } => albedo > 0.0,
-            _ => false,
+            Material::Lambertian { .. } | Material::Textured { .. } => Some(Lobe::Cosine),
+            Material::DiffuseLight { albedo, .. } if albedo > 0.0 => Some(Lobe::Cosine),
+            Material::Isotropic { .. } => Some(Lobe::Sphere),
+            _ => None,
         }
     }
 
@@ -140,6 +142,15 @@ impl Material {
     pub fn is_first_book(&self) -> bool {
         matches!(self, Material::Lambertian { .. } | Material::Metal { .. } | Material::Dielectric { .. })
     }
+}
+
+/// The density a scattering material draws its directions with ([`Material::lobe`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Lobe {
+    /// `cos θ / π` about the normal (Lambertian).
+    Cosine,
+    /// `1 / 4π` over every direction (the isotropic phase function).
+    Sphere,
 }
 
 /// The Lambertian scatter: around the normal with a cosine distribution.
