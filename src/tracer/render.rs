@@ -375,7 +375,8 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
                     weighed = Some((hit.point, lobe_pdf(lobe, scatter.direction, hit.normal)));
                 }
                 LightSampling::Mixture => {
-                    if !mixture_bounce(scene.lights(), &hit, lobe, &mut scatter, rng) {
+                    let goes_on = mixture_bounce(scene.lights(), &hit, lobe, &mut scatter, rng);
+                    if !goes_on {
                         return radiance;
                     }
                 }
