@@ -365,7 +365,9 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
             return radiance;
         };
         weighed = None;
-        if let Some(lobe) = material.lobe().filter(|_| aiming != LightSampling::Bsdf) {
+        // Tested first, so that a first-book scene (always `Bsdf`) has no further work here.
+        let lobe = if aiming == LightSampling::Bsdf { None } else { material.lobe() };
+        if let Some(lobe) = lobe {
             rng.light(cast - 1);
             match aiming {
                 LightSampling::Mis if cast < settings.max_depth => {
