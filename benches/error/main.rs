@@ -11,6 +11,12 @@
 //! Writes `results/error-f32.csv` (or `-f64`), then `results/error.md` and `results/error.png`
 //! from whichever of the two CSV files exist. Run it once without and once with
 //! `--features f64` to compare the precisions. `--quick`: small images, for a smoke test.
+//!
+//! The scenes lit by emitters (`cornell`, `cornell-smoke`) are measured by [`lights`]: the
+//! three `--light-sampling` settings against bsdf's error at 1,024 spp. `--only sky` or
+//! `--only lights` runs one of the two parts; the report is rebuilt from every CSV present.
+
+mod lights;
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -26,6 +32,7 @@ use raypool::tracer::math::real::{Real, to_f64, vec3};
 use raypool::tracer::render::default_height;
 use raypool::tracer::render::{Adaptive, RenderSettings};
 use raypool::tracer::sampling::sampler::Sampler;
+use raypool::tracer::scene::Scene;
 
 /// The uniform methods: (name, sampler, Russian roulette).
 const METHODS: [(&str, Sampler, bool); 4] = [
@@ -71,7 +78,9 @@ struct Row {
 const CSV_HEADER: &str = "scene,precision,method,setting,mean_spp,seconds,rmse,rel_mse";
 
 fn main() {
-    let quick = std::env::args().any(|a| a == "--quick");
+    let args: Vec<String> = std::env::args().collect();
+    let quick = args.iter().any(|a| a == "--quick");
+    let only = args.iter().position(|a| a == "--only").and_then(|k| args.get(k + 1)).map(String::as_str);
     let config = if quick {
         Config { width: 48, reference_spp_each: 256, max_spp: 64, min_spp: 8 }
     } else {
@@ -79,6 +88,45 @@ fn main() {
     };
     let out_dir = results_dir();
     let threads = cpus();
+    let given: Vec<&str> = args.iter().skip(1).map(String::as_str).filter(|a| *a != "--bench").collect();
+    let command = if given.is_empty() {
+        "cargo bench --bench error".to_string()
+    } else {
+        format!("cargo bench --bench error -- {}", given.join(" "))
+    };
+    let footer = format!("{command} [--features f64]; {}", Machine::current().describe());
+    let mut references = String::new();
+    if only != Some("lights") {
+        references = measure_sky(&config, threads, &out_dir);
+    }
+    if only != Some("sky") {
+        lights::measure(quick, threads, &out_dir, &format!("{command}; {}", Machine::current().describe()));
+    }
+    // Both precisions' rows, where the other run's CSV exists.
+    let mut all = Vec::new();
+    for precision in ["f32", "f64"] {
+        all.extend(read_csv(&out_dir.join(format!("error-{precision}.csv"))));
+    }
+    let mut sky_footer = footer.clone();
+    if references.is_empty() {
+        // Only the lights were measured: keep the sky part's header (its command, machine,
+        // commit and references) from the last report.
+        let previous = std::fs::read_to_string(out_dir.join("error.md")).unwrap_or_default();
+        references = previous_references(&previous);
+        sky_footer = previous_footer(&previous).unwrap_or(sky_footer);
+    }
+    let mut md = report(&all, &config, &references, &sky_footer, threads);
+    md += &lights::report(&out_dir, quick);
+    std::fs::write(out_dir.join("error.md"), &md).expect("error.md is writable");
+    if !all.is_empty() {
+        plot(&all, &out_dir.join("error.png"), &sky_footer);
+    }
+    println!("{md}\nwrote {}/error.md and its plots", out_dir.display());
+}
+
+/// The sky scenes' part: every sampling method at every setting, written to
+/// `error-{precision}.csv`; returns the references' table rows.
+fn measure_sky(config: &Config, threads: usize, out_dir: &Path) -> String {
     let mut rows = Vec::new();
     let mut references = String::new();
     for name in SCENES {
@@ -93,30 +141,9 @@ fn main() {
             "| {name} | {} × {height} | {} | {:.2e} |",
             config.width, reference.spp, reference.noise
         );
-        // Every method at one setting (`setting`: the spp, or the target error), measured: the
-        // renders run in rounds, each running every method once, so the machine's drift over
-        // the minutes hits the methods alike; a row's time is the median of its rounds (the
-        // images are the same bits every round, so the first round's is measured).
         let measure = |rows: &mut Vec<Row>, setting: f64, methods: &[(&str, RenderSettings)]| {
-            let mut seconds = vec![Vec::new(); methods.len()];
-            let mut images = Vec::new();
-            for round in 0..TIMING_ROUNDS {
-                for (k, &(_, settings)) in methods.iter().enumerate() {
-                    let (out, time) = timed_render(scene.clone(), settings, threads);
-                    seconds[k].push(time);
-                    if round == 0 {
-                        images.push(out);
-                    }
-                }
-            }
-            for ((&(method, _), out), mut times) in methods.iter().zip(&images).zip(seconds) {
-                let r = row(name, method, setting, out, median(&mut times), &reference, base);
-                eprintln!(
-                    "{name} {PRECISION} {method} {setting}: {:.1} spp, {:.3} s (median of {times:.3?}), rmse {:.3e}, relmse {:.3e}",
-                    r.mean_spp, r.seconds, r.rmse, r.rel_mse
-                );
-                rows.push(r);
-            }
+            let at = Setting { scene: name, world: &scene, base, reference: &reference, threads };
+            measure_rounds(rows, &at, setting, methods);
         };
         // To twice the goal's spp, so a method noisier than independent sampling (roulette)
         // can still reach its error.
@@ -147,18 +174,55 @@ fn main() {
         .collect();
     let csv_path = out_dir.join(format!("error-{PRECISION}.csv"));
     std::fs::write(&csv_path, format!("{CSV_HEADER}\n{csv}")).expect("the CSV is writable");
+    references
+}
 
-    // Both precisions' rows, where the other run's CSV exists.
-    let mut all = Vec::new();
-    for precision in ["f32", "f64"] {
-        all.extend(read_csv(&out_dir.join(format!("error-{precision}.csv"))));
+/// The footer line (command, machine, commit, date) of an earlier report `text`.
+fn previous_footer(text: &str) -> Option<String> {
+    let line = text.lines().find(|l| l.starts_with('`'))?;
+    Some(line.trim_matches('`').to_string())
+}
+
+/// The references' table rows of an earlier report `text`.
+fn previous_references(text: &str) -> String {
+    let is_row = |l: &&str| l.starts_with("| ") && SCENES.iter().any(|s| l.starts_with(&format!("| {s} | ")));
+    let rows: Vec<&str> = text.lines().skip_while(|l| !l.starts_with("| scene | size |")).skip(2).take_while(|l| l.starts_with('|')).filter(is_row).collect();
+    rows.iter().map(|l| format!("{l}\n")).collect()
+}
+
+/// One scene's measurement context: its world, base settings and reference.
+struct Setting<'a> {
+    scene: &'a str,
+    world: &'a Scene,
+    base: RenderSettings,
+    reference: &'a Reference,
+    threads: usize,
+}
+
+/// Every method at one setting (`setting`: the spp, or the target error), measured: the
+/// renders run in rounds, each running every method once, so the machine's drift over the
+/// minutes hits the methods alike; a row's time is the median of its rounds (the images are
+/// the same bits every round, so the first round's is measured).
+fn measure_rounds(rows: &mut Vec<Row>, at: &Setting, setting: f64, methods: &[(&str, RenderSettings)]) {
+    let mut seconds = vec![Vec::new(); methods.len()];
+    let mut images = Vec::new();
+    for round in 0..TIMING_ROUNDS {
+        for (k, &(_, settings)) in methods.iter().enumerate() {
+            let (out, time) = timed_render(at.world.clone(), settings, at.threads);
+            seconds[k].push(time);
+            if round == 0 {
+                images.push(out);
+            }
+        }
     }
-    let command = if quick { "cargo bench --bench error -- --quick" } else { "cargo bench --bench error" };
-    let footer = format!("{command} [--features f64]; {}", Machine::current().describe());
-    let md = report(&all, &config, &references, &footer, threads);
-    std::fs::write(out_dir.join("error.md"), &md).expect("error.md is writable");
-    plot(&all, &out_dir.join("error.png"), &footer);
-    println!("{md}\nwrote {}/error.md, error.png, {}", out_dir.display(), csv_path.display());
+    for ((&(method, _), out), mut times) in methods.iter().zip(&images).zip(seconds) {
+        let r = row(at.scene, method, setting, out, median(&mut times), at.reference, at.base);
+        eprintln!(
+            "{} {PRECISION} {method} {setting}: {:.1} spp, {:.3} s (median of {times:.3?}), rmse {:.3e}, relmse {:.3e}",
+            at.scene, r.mean_spp, r.seconds, r.rmse, r.rel_mse
+        );
+        rows.push(r);
+    }
 }
 
 fn row(
@@ -185,7 +249,7 @@ fn row(
 /// The scene's reference, from the cache when an earlier run (of either precision) made it.
 fn cached_reference(
     name: &str,
-    scene: &raypool::tracer::scene::Scene,
+    scene: &Scene,
     base: RenderSettings,
     spp_each: u32,
     threads: usize,
