@@ -18,7 +18,9 @@ use raypool::tracer::math::real::{Real, to_f64};
 use raypool::tracer::render::{Adaptive, RenderSettings, default_height};
 use raypool::tracer::sampling::sampler::Sampler;
 
-use super::{CSV_HEADER, PRECISION, Row, Setting, cached_reference, measure_rounds, read_csv, select, time_to_reach};
+use super::{
+    CSV_HEADER, PRECISION, Row, Setting, cached_reference, measure_rounds, read_csv, select, time_to_reach,
+};
 
 pub const SCENES: [&str; 2] = ["cornell", "cornell-smoke"];
 
@@ -127,7 +129,7 @@ pub fn report(out_dir: &Path, quick: bool) -> String {
          hit, weighed against the bounce by the power heuristic; *+rr*: Russian roulette after 4 rays; *adaptive*: \
          `--target-error E --min-spp {min} --max-spp {goal_spp}`. Time = where the method's error-against-time curve \
          crosses bsdf's error at {goal_spp} spp (log–log between the runs around it); ratio = that ÷ bsdf's time at \
-         {goal_spp} spp. RMSE weighs bright pixels (the light's own edges, seen directly and in the mirror box, \
+         {goal_spp} spp. RMSE weighs bright pixels (the light's own edges, seen directly and through the glass sphere, \
          whose noise every setting shares) by their brightness; relMSE, (x − r)²/(r² + 0.01), weighs every pixel \
          alike.\n\n| scene | reference spp | reference noise (RMSE) |\n|---|---:|---:|\n",
         w = config.width,

@@ -14,7 +14,8 @@
 //!
 //! The scenes lit by emitters (`cornell`, `cornell-smoke`) are measured by [`lights`]: the
 //! three `--light-sampling` settings against bsdf's error at 1,024 spp. `--only sky` or
-//! `--only lights` runs one of the two parts; the report is rebuilt from every CSV present.
+//! `--only lights` runs one of the two parts, `--only report` neither; the report is rebuilt
+//! from every CSV present.
 
 mod lights;
 
@@ -81,6 +82,10 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let quick = args.iter().any(|a| a == "--quick");
     let only = args.iter().position(|a| a == "--only").and_then(|k| args.get(k + 1)).map(String::as_str);
+    assert!(
+        only.is_none_or(|o| ["sky", "lights", "report"].contains(&o)),
+        "--only takes sky, lights or report"
+    );
     let config = if quick {
         Config { width: 48, reference_spp_each: 256, max_spp: 64, min_spp: 8 }
     } else {
@@ -96,10 +101,10 @@ fn main() {
     };
     let footer = format!("{command} [--features f64]; {}", Machine::current().describe());
     let mut references = String::new();
-    if only != Some("lights") {
+    if only.is_none() || only == Some("sky") {
         references = measure_sky(&config, threads, &out_dir);
     }
-    if only != Some("sky") {
+    if only.is_none() || only == Some("lights") {
         lights::measure(quick, threads, &out_dir, &format!("{command}; {}", Machine::current().describe()));
     }
     // Both precisions' rows, where the other run's CSV exists.
@@ -186,7 +191,13 @@ fn previous_footer(text: &str) -> Option<String> {
 /// The references' table rows of an earlier report `text`.
 fn previous_references(text: &str) -> String {
     let is_row = |l: &&str| l.starts_with("| ") && SCENES.iter().any(|s| l.starts_with(&format!("| {s} | ")));
-    let rows: Vec<&str> = text.lines().skip_while(|l| !l.starts_with("| scene | size |")).skip(2).take_while(|l| l.starts_with('|')).filter(is_row).collect();
+    let rows: Vec<&str> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("| scene | size |"))
+        .skip(2)
+        .take_while(|l| l.starts_with('|'))
+        .filter(is_row)
+        .collect();
     rows.iter().map(|l| format!("{l}\n")).collect()
 }
 
