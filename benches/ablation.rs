@@ -1,10 +1,12 @@
 //! `cargo bench --bench ablation`: what each optimisation buys, switched off one at a time.
 //!
-//! One thread, the book's `final` scene at 600 × 400, 64 spp, depth 50. Each configuration
-//! is rendered in rounds (every configuration once per round, so a slow spell of the machine
-//! hits all of them alike); the table gives the median wall time and Mrays/s and the largest
-//! pixel difference to the default configuration's image (0 where the change is exact).
-//! Writes `results/ablation.md`. Pass `--quick` for 300 × 200 at 16 spp.
+//! One thread, the book's `final` scene at 600 × 400, 64 spp, depth 50; then the lit
+//! `cornell` box at 200 × 200, 64 spp, under each `--light-sampling` setting. Each
+//! configuration is rendered in rounds (every configuration of a table once per round, so a
+//! slow spell of the machine hits all of them alike); the table gives the median wall time
+//! and Mrays/s and the largest pixel difference to the default configuration's image (0
+//! where the change is exact). Writes `results/ablation.md`. Pass `--quick` for a quarter of
+//! the pixels and 16 spp.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -17,6 +19,7 @@ use raypool::schedule::modes::{Schedule, render};
 use raypool::schedule::random::RngSource;
 use raypool::schedule::random::SharedRng;
 use raypool::tracer::geometry::sphere::Intersection;
+use raypool::tracer::lighting::LightSampling;
 use raypool::tracer::math::real::to_f64;
 use raypool::tracer::render::{RenderJob, RenderSettings};
 use raypool::tracer::sampling::independent::PerSample;
@@ -42,7 +45,7 @@ fn per_sample(seed: u64) -> RngSource {
     RngSource::PerSample(PerSample { seed })
 }
 
-const VARIANTS: [Variant; 10] = [
+const VARIANTS: [Variant; 11] = [
     Variant {
         name: "default (all on)",
         kind: "reference",
@@ -108,6 +111,14 @@ const VARIANTS: [Variant; 10] = [
         rounds: 3,
     },
     Variant {
+        name: "light sampling bsdf instead of mis (final has no emitters: nothing to aim at)",
+        kind: "exact",
+        scene: |s| s,
+        settings: |s| RenderSettings { light_sampling: LightSampling::Bsdf, ..s },
+        streams: per_sample,
+        rounds: 3,
+    },
+    Variant {
         name: "Sobol sampler (the command line's default) instead of independent numbers",
         kind: "other noise: less error per sample",
         scene: |s| s,
@@ -125,14 +136,64 @@ const VARIANTS: [Variant; 10] = [
     },
 ];
 
+/// The lit scene's table: how each way of finding the lights costs per sample (the error
+/// each reaches is `results/error.md`'s).
+const LIT_VARIANTS: [Variant; 4] = [
+    Variant {
+        name: "default: light sampling mis (a shadow ray at every diffuse hit)",
+        kind: "reference",
+        scene: |s| s,
+        settings: |s| s,
+        streams: per_sample,
+        rounds: 3,
+    },
+    Variant {
+        name: "light sampling mixture (half the bounces aimed at the light)",
+        kind: "unbiased: other noise",
+        scene: |s| s,
+        settings: |s| RenderSettings { light_sampling: LightSampling::Mixture, ..s },
+        streams: per_sample,
+        rounds: 3,
+    },
+    Variant {
+        name: "light sampling bsdf (the material's bounce only)",
+        kind: "unbiased: other noise",
+        scene: |s| s,
+        settings: |s| RenderSettings { light_sampling: LightSampling::Bsdf, ..s },
+        streams: per_sample,
+        rounds: 3,
+    },
+    Variant {
+        name: "mis with Russian roulette",
+        kind: "unbiased: other noise",
+        scene: |s| s,
+        settings: |s| RenderSettings { roulette: true, ..s },
+        streams: per_sample,
+        rounds: 3,
+    },
+];
+
+/// One table: a scene at a size, and its variants.
+struct Table {
+    scene: &'static str,
+    size: (u32, u32),
+    variants: &'static [Variant],
+}
+
+const TABLES: [Table; 2] = [
+    Table { scene: "final", size: (600, 400), variants: &VARIANTS },
+    Table { scene: "cornell", size: (200, 200), variants: &LIT_VARIANTS },
+];
+
 struct Measured {
     seconds: Vec<f64>,
     rays: u64,
     image: Image,
 }
 
-fn run(variant: &Variant, base: RenderSettings) -> Measured {
-    let scene = (variant.scene)(builtin_scene("final", DEFAULT_SCENE_SEED).expect("final exists").to_scene());
+fn run(scene: &str, variant: &Variant, base: RenderSettings) -> Measured {
+    let scene =
+        (variant.scene)(builtin_scene(scene, DEFAULT_SCENE_SEED).expect("a built-in scene").to_scene());
     let settings = (variant.settings)(base);
     let rng = (variant.streams)(settings.seed);
     let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 1, 16, Arc::new(|_| {})));
@@ -153,7 +214,24 @@ fn largest_difference(a: &Image, b: &Image) -> f64 {
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
-    let (width, height, spp) = if quick { (300, 200, 16) } else { (600, 400, 64) };
+    let mut md = format!(
+        "# Ablation: each optimisation switched off\n\nMachine: {}.\nCommand: `cargo bench --bench ablation{}`. \
+         One thread (serial), depth 50, seed 1, independent numbers per sample; median of the runs listed.\n",
+        Machine::current().describe(),
+        if quick { " -- --quick" } else { "" }
+    );
+    for table in &TABLES {
+        md += &measure_table(table, quick);
+    }
+    let path = results_dir().join("ablation.md");
+    std::fs::write(&path, &md).expect("the output directory is writable");
+    println!("{md}\nwrote {}", path.display());
+}
+
+/// Renders every variant of `table` in rounds; its Markdown section.
+fn measure_table(table: &Table, quick: bool) -> String {
+    let (width, height, spp) =
+        if quick { (table.size.0 / 2, table.size.1 / 2, 16) } else { (table.size.0, table.size.1, 64) };
     let base = RenderSettings {
         width,
         height,
@@ -163,14 +241,14 @@ fn main() {
         sampler: Sampler::Independent,
         ..Default::default()
     };
-    let mut measured: Vec<Option<Measured>> = VARIANTS.iter().map(|_| None).collect();
+    let mut measured: Vec<Option<Measured>> = table.variants.iter().map(|_| None).collect();
     for round in 0..3 {
-        for (variant, slot) in VARIANTS.iter().zip(measured.iter_mut()) {
+        for (variant, slot) in table.variants.iter().zip(measured.iter_mut()) {
             if round >= variant.rounds {
                 continue;
             }
-            let m = run(variant, base);
-            eprintln!("round {round}: {}: {:.3} s", variant.name, m.seconds[0]);
+            let m = run(table.scene, variant, base);
+            eprintln!("round {round}: {}: {}: {:.3} s", table.scene, variant.name, m.seconds[0]);
             match slot {
                 Some(kept) => kept.seconds.extend(m.seconds),
                 None => *slot = Some(m),
@@ -180,15 +258,12 @@ fn main() {
     let measured: Vec<Measured> = measured.into_iter().map(|m| m.expect("every variant ran")).collect();
     let reference = &measured[0];
     let mut md = format!(
-        "# Ablation: each optimisation switched off\n\n\
-         `final`, {width} × {height}, {spp} spp, depth 50, one thread (serial), seed 1.\n\
-         Machine: {}.\nCommand: `cargo bench --bench ablation{}`. Median of the runs listed.\n\n\
+        "\n## `{}`, {width} × {height}, {spp} spp\n\n\
          | change | kind | runs (s) | median (s) | rays | Mrays/s | × default time | largest pixel difference |\n\
          |---|---|---|---:|---:|---:|---:|---:|\n",
-        Machine::current().describe(),
-        if quick { " -- --quick" } else { "" }
+        table.scene
     );
-    for (variant, m) in VARIANTS.iter().zip(&measured) {
+    for (variant, m) in table.variants.iter().zip(&measured) {
         let runs: Vec<String> = m.seconds.iter().map(|s| format!("{s:.2}")).collect();
         let t = median(&m.seconds);
         md += &format!(
@@ -202,7 +277,5 @@ fn main() {
             largest_difference(&m.image, &reference.image),
         );
     }
-    let path = results_dir().join("ablation.md");
-    std::fs::write(&path, &md).expect("the output directory is writable");
-    println!("{md}\nwrote {}", path.display());
+    md
 }

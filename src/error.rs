@@ -15,6 +15,15 @@ impl Error {
         Error { message: message.into(), exit_code: 2 }
     }
 
+    /// An error with this message and exit code (a verdict, such as a grade not passed).
+    ///
+    /// ```
+    /// assert_eq!(raypool::Error::with_exit_code("not passed", 1).exit_code(), 1);
+    /// ```
+    pub fn with_exit_code(message: impl Into<String>, exit_code: u8) -> Error {
+        Error { message: message.into(), exit_code }
+    }
+
     /// The command was stopped by signal `number` (exit code 128 + `number`, as shells do:
     /// 130 for Ctrl-C, 143 for SIGTERM).
     ///

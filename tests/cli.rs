@@ -129,6 +129,11 @@ fn bad_flags_exit_2_with_one_line() {
     assert_rejected(&dir, &["grade", "--mode", "steal", "--discipline", "locked"], "--discipline");
     assert_rejected(&dir, &["grade", "--discipline", "lifo"], "lifo");
     assert_rejected(&dir, &["grade", "--mode", "steal", "--threads", "two"], "'two' is not a count");
+    assert_rejected(
+        &dir,
+        &["grade", "--mode", "steal", "--pass", "101"],
+        "'101' is not a score from 0 to 100",
+    );
 }
 
 #[test]
@@ -325,11 +330,16 @@ fn grade_writes_its_report_and_prints_it() {
         &["grade", "--mode", "interleaved", "--threads", "2", "--rounds", "1", "--out", "g.md"],
         &dir,
     );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    // 0: passed; 3: the machine (busy with other tests) was too busy to judge, and said so.
+    let code = out.status.code();
+    assert!(matches!(code, Some(0 | 3)), "exit {code:?}: {}", String::from_utf8_lossy(&out.stderr));
     let report = std::fs::read_to_string(dir.join("g.md")).unwrap();
     assert_eq!(String::from_utf8_lossy(&out.stdout).trim_end(), report.trim_end(), "printed as written");
     assert!(report.starts_with("# Grade: mode interleaved") && report.contains("Machine: nproc"), "{report}");
-    assert!(report.contains("Conformance: **passed** at [1, 2] threads"), "{report}");
+    assert!(report.contains("Conformance: **passed** at [2] threads"), "{report}");
+    if code == Some(3) {
+        assert!(report.contains("**incomplete**") && report.contains("too busy to judge"), "{report}");
+    }
     for workload in ["balanced", "one-band", "heavy-tail", "tiny-tiles", "many-frames", "smoke-room"] {
         assert!(report.contains(&format!("| {workload} |")), "{workload} missing: {report}");
     }

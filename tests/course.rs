@@ -1,15 +1,20 @@
 //! The course kit (examples/course, examples/course-solution): the conformance check catches
-//! the two wrong schedulers an instructor expects, with a reason a student understands; the
-//! solution passes; the built-in modes pass it again and again (not flaky); and the grader
-//! scores what it should.
+//! the wrong schedulers an instructor expects and the cheats a student might try, with a
+//! reason a student understands; the solution passes; the built-in modes pass it again and
+//! again (not flaky); and the grader scores what it should, watching every timed frame.
 
 mod deadline;
 
+use std::collections::HashSet;
+use std::sync::Arc;
+
 use deadline::within;
-use raypool::measure::grade::report::points;
+use raypool::measure::grade::on_queue::OnQueue;
+use raypool::measure::grade::report::{Verdict, points};
 use raypool::measure::grade::{Entry, Options, Submission, grade};
-use raypool::schedule::conformance::check;
-use raypool::schedule::modes::Schedule;
+use raypool::schedule::conformance::{check, test_frame};
+use raypool::schedule::modes::{Schedule, Scheduler};
+use raypool::{Frame, TileOutput};
 
 #[path = "../examples/course-solution/scheduler.rs"]
 mod solution;
@@ -22,6 +27,15 @@ mod calling_thread;
 
 #[path = "../examples/course-solution/wrong/thread-per-tile.rs"]
 mod thread_per_tile;
+
+#[path = "../examples/course-solution/wrong/timing-cleared.rs"]
+mod timing_cleared;
+
+#[path = "../examples/course-solution/wrong/around-the-frame.rs"]
+mod around_the_frame;
+
+#[path = "../examples/course-solution/wrong/twice.rs"]
+mod twice;
 
 #[test]
 fn the_solution_conforms() {
@@ -54,6 +68,42 @@ fn a_thread_per_tile_fails_in_words_a_student_understands() {
     });
 }
 
+#[test]
+fn a_thread_per_tile_that_clears_its_timings_is_still_counted() {
+    within("the conformance check of a thread-per-tile scheduler without timings to finish", || {
+        for threads in [1, 2, 8] {
+            let error = check(&timing_cleared::TileQueue, threads).unwrap_err();
+            assert!(error.contains("rendered on 54 different threads"), "{threads} threads: {error}");
+        }
+    });
+}
+
+#[test]
+fn tiles_rendered_around_the_frame_are_refused() {
+    within("the conformance check of a scheduler that calls the tracer itself to finish", || {
+        for threads in [1, 2] {
+            let error = check(&around_the_frame::TileQueue, threads).unwrap_err();
+            assert!(
+                error.starts_with("2257 of the frame's 2257 pixels never went through frame.render"),
+                "{error}"
+            );
+            assert!(error.contains("not the tracer directly"), "{error}");
+        }
+    });
+}
+
+#[test]
+fn every_tile_rendered_on_every_thread_is_refused_though_one_copy_is_returned() {
+    within("the conformance check of a scheduler that renders every tile twice to finish", || {
+        check(&twice::TileQueue, 1).expect("on one thread, rendering everything once is right");
+        for threads in [2, 3, 8] {
+            let error = check(&twice::TileQueue, threads).unwrap_err();
+            let times = format!("went through frame.render {threads} times");
+            assert!(error.contains(&times), "{threads} threads: {error}");
+        }
+    });
+}
+
 /// Every built-in parallel mode, on 2, 3 and 8 threads, `CONFORMANCE_ROUNDS` times (25 by
 /// default; the course issue's evidence ran 1,000).
 #[test]
@@ -79,7 +129,16 @@ fn points_fall_from_one_to_zero_between_the_two_ratios() {
 }
 
 fn options(threads: Vec<usize>) -> Options {
-    Options { threads, rounds: 1, out: "unused.md".into() }
+    Options { threads, rounds: 1, out: "unused.md".into(), pass: 50.0 }
+}
+
+/// A row's points are either earned from its times, or withheld because the machine (busy
+/// with the other tests) could not judge it, and then the row says so.
+fn judged_or_said_why(score: &raypool::measure::grade::report::Score) -> bool {
+    match &score.unjudged {
+        None => score.failure.is_none() && score.ratio > 0.0,
+        Some(why) => why.contains("too busy") || why.contains("rounds disagree"),
+    }
 }
 
 #[test]
@@ -91,10 +150,12 @@ fn the_grader_times_a_conforming_submission_on_every_workload_and_thread_count()
         assert_eq!(report.conformance, Ok(vec![1, 2]));
         let workloads: Vec<&str> = report.scores.iter().map(|s| s.workload).collect();
         assert_eq!(workloads.len(), 12, "6 workloads × 2 thread counts: {workloads:?}");
-        assert!(report.scores.iter().all(|s| s.failure.is_none() && s.ratio > 0.0), "same images");
+        assert!(report.scores.iter().all(judged_or_said_why), "same images, or a reason");
         assert_eq!(report.scored().len(), 6, "the 1-thread rows are a baseline");
-        let markdown = report.markdown("test");
+        assert!(report.machine_checks.iter().any(|c| c.threads == 2), "the machine was checked at 2 threads");
+        let markdown = report.markdown("test", 50.0);
         assert!(markdown.contains("Machine: nproc") && markdown.contains("**Score: "), "{markdown}");
+        assert!(markdown.contains("median of the rounds' own ratios"), "the ratio column is explained");
     });
 }
 
@@ -105,10 +166,11 @@ fn the_grader_scores_a_nonconforming_submission_zero_without_timing_it() {
             Submission { name: "per tile".into(), entry: Entry::Scheduler(&thread_per_tile::TileQueue) };
         let report = grade(&submission, &options(vec![2]), |_| {}).unwrap();
         let error = report.conformance.as_ref().unwrap_err();
-        assert!(error.starts_with("with frame.threads = 1: tiles were rendered on 54"), "{error}");
+        assert!(error.starts_with("with frame.threads = 2: tiles were rendered on 54"), "{error}");
         assert!(report.scores.is_empty());
         assert_eq!(report.score(), 0.0);
-        assert!(report.markdown("test").contains("Conformance: **FAILED**"));
+        assert_eq!(report.verdict(0.0), Verdict::Failed, "a failed conformance fails at any pass mark");
+        assert!(report.markdown("test", 50.0).contains("Conformance: **FAILED**"));
     });
 }
 
@@ -119,6 +181,75 @@ fn the_grader_grades_a_queue_with_the_nested_workload() {
         let report = grade(&submission, &options(vec![2]), |_| {}).unwrap();
         assert!(report.conformance.is_ok(), "{:?}", report.conformance);
         assert!(report.scores.iter().any(|s| s.workload == "nested"));
-        assert!(report.scores.iter().all(|s| s.failure.is_none()));
+        assert!(report.scores.iter().all(judged_or_said_why));
+    });
+}
+
+/// Behaves on the conformance check's 61-pixel frame; a thread per tile on any other.
+struct BehavesWhenWatched;
+
+impl Scheduler for BehavesWhenWatched {
+    fn render(&self, frame: &Arc<Frame>) -> Vec<TileOutput> {
+        if frame.width() == 61 {
+            solution::TileQueue.render(frame)
+        } else {
+            thread_per_tile::TileQueue.render(frame)
+        }
+    }
+}
+
+#[test]
+fn a_submission_that_behaves_only_on_the_test_frame_earns_nothing_when_timed() {
+    within("the grading of a scheduler that cheats when timed to finish", || {
+        let submission =
+            Submission { name: "two-faced".into(), entry: Entry::Scheduler(&BehavesWhenWatched) };
+        let report = grade(&submission, &options(vec![2]), |_| {}).unwrap();
+        assert_eq!(report.conformance, Ok(vec![2]), "it passes the check");
+        for score in &report.scores {
+            assert_eq!(score.points, 0.0, "{}: {score:?}", score.workload);
+            if score.unjudged.is_none() {
+                let failure = score.failure.as_deref().unwrap_or_default();
+                assert!(
+                    failure.starts_with("when timed: tiles were rendered on"),
+                    "{}: {failure}",
+                    score.workload
+                );
+            }
+        }
+        assert_eq!(report.score(), 0.0);
+    });
+}
+
+#[test]
+fn a_static_split_never_earns_the_one_band_point_busy_or_not() {
+    within("the grading of the static split to finish", || {
+        let submission =
+            Submission { name: "static".into(), entry: Entry::Scheduler(&Schedule::StaticBlocks) };
+        let report = grade(&submission, &options(vec![2]), |_| {}).unwrap();
+        let band = report.scores.iter().find(|s| s.workload == "one-band").expect("a one-band row");
+        assert!(band.judged_by_balance);
+        assert!(band.points < 0.5, "{band:?}");
+        if band.unjudged.is_none() {
+            assert!(
+                band.imbalance.0 > 1.5 * band.imbalance.1,
+                "the frames saw the static split idle: {band:?}"
+            );
+        }
+        assert!(report.score() < 100.0);
+    });
+}
+
+#[test]
+fn the_scheduler_reference_keeps_one_pool_for_every_frame() {
+    within("two frames on the reference to finish", || {
+        let reference = OnQueue::new(pool::Discipline::Stealing.queue(), false);
+        let frame = test_frame(2);
+        let threads = |tiles: Vec<TileOutput>| -> HashSet<_> {
+            tiles.iter().filter_map(|t| Some(t.timing?.thread)).collect()
+        };
+        let first = threads(reference.render(&frame));
+        let second = threads(reference.render(&frame));
+        assert!(!first.is_empty() && first.len() <= 2, "{first:?}");
+        assert!(second.is_subset(&first), "the second frame ran on new threads: {first:?} then {second:?}");
     });
 }

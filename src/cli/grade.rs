@@ -3,6 +3,7 @@
 
 use crate::cli::args::GradeArgs;
 use crate::error::Error;
+use crate::measure::grade::report::Verdict;
 use crate::measure::grade::{Entry, Submission, grade_and_report};
 
 /// Runs `raypool grade`.
@@ -24,5 +25,14 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
         }
     };
     let command = std::env::args().collect::<Vec<_>>().join(" ");
-    grade_and_report(&[&submission], &args.options, &command)
+    match grade_and_report(&[&submission], &args.options, &command)? {
+        Verdict::Passed => Ok(()),
+        verdict => Err(Error::with_exit_code(
+            match verdict {
+                Verdict::Unjudged => "grade: the machine was too busy to judge (see the report)",
+                _ => "grade: not passed (see the report)",
+            },
+            verdict.exit_code(),
+        )),
+    }
 }

@@ -2,12 +2,18 @@
 //!
 //! A scheduler conforms, for a thread count `T`, when on a small image whose size divides
 //! evenly into nothing (61 × 37 pixels, tiles of 7):
-//! 1. it renders every pixel exactly once;
+//! 1. every pixel goes through `Frame::render` exactly once, and the tiles it returns are
+//!    those, each pixel once;
 //! 2. it renders on at most `T` distinct threads (a pool of `T` workers, or `T` scoped
 //!    threads; not a thread per tile);
 //! 3. asked for `T ≥ 2`, it really renders in parallel: `min(T, 37)` threads are rendering
 //!    a tile *at the same time* at least once;
 //! 4. its image equals the `serial` schedule's, byte for byte.
+//!
+//! Rules 1 and 2 are judged from what the frame itself saw (an
+//! [`Observer`](crate::schedule::observe::Observer) in its hooks), never from what the
+//! scheduler returns: a `timing` it cleared, a copy it rendered twice and returned once, or a
+//! tile it rendered by calling the tracer directly are all seen for what they are.
 //!
 //! Rule 3 is checked without a clock, so it cannot be flaky: the check's frame holds every
 //! tile at its start (a `Rendezvous`, below) until `min(T, 37)` tiles are in flight on as many
@@ -19,9 +25,7 @@
 //! hang a student's test run, the check then ends the process after [`DEADLINE`] with a
 //! message naming the thread count (exit code 101, as a failed test).
 
-use std::collections::HashSet;
 use std::sync::{Arc, mpsc};
-use std::thread::ThreadId;
 use std::time::{Duration, Instant};
 
 use parking_lot::{Condvar, Mutex};
@@ -29,8 +33,9 @@ use parking_lot::{Condvar, Mutex};
 use crate::scenes::builtin::builtin_scene;
 use crate::schedule::frame::{Frame, StartHook, TileHook};
 use crate::schedule::modes::{Schedule, Scheduler};
+use crate::schedule::observe::Observer;
 use crate::schedule::random::RngSource;
-use crate::tracer::render::{RenderJob, RenderSettings, TileOutput};
+use crate::tracer::render::{RenderJob, RenderSettings};
 use crate::tracer::sampling::independent::PerSample;
 
 /// How long the first tiles wait for the other threads to start theirs before the check
@@ -53,12 +58,13 @@ pub fn check(scheduler: &dyn Scheduler, threads: usize) -> Result<(), String> {
     let threads = threads.max(1);
     let frame = test_frame(threads);
     let gate = Arc::new(Rendezvous::new(threads.min(frame.height() as usize)));
-    let watched = Arc::new((*frame).clone().with_start_hook(gate.on_start()).with_tile_hook(gate.on_end()));
+    let gated = Arc::new((*frame).clone().with_start_hook(gate.on_start()).with_tile_hook(gate.on_end()));
+    let (observer, watched) = Observer::watch(&gated);
     let watchdog = watchdog(threads);
     let tiles = scheduler.render(&watched);
     drop(watchdog);
+    observer.verify(&frame, &tiles, threads)?;
     let image = frame.assemble(&tiles)?;
-    check_threads(&tiles, threads)?;
     if threads > 1 {
         gate.check_parallel(threads)?;
     }
@@ -90,20 +96,6 @@ fn watchdog(threads: usize) -> mpsc::Sender<()> {
         }
     });
     armed
-}
-
-/// Rule 2: no more distinct rendering threads than the frame asked for.
-fn check_threads(tiles: &[TileOutput], threads: usize) -> Result<(), String> {
-    let used: HashSet<ThreadId> = tiles.iter().filter_map(|t| Some(t.timing?.thread)).collect();
-    if used.len() > threads {
-        return Err(format!(
-            "tiles were rendered on {} different threads, but the frame asked for at most \
-             frame.threads = {threads}: start that many threads (or a pool of that many workers) \
-             and give each of them many tiles, not one thread per tile",
-            used.len()
-        ));
-    }
-    Ok(())
 }
 
 /// The small frame the check renders: the book's final scene, 61 × 37, 2 spp, depth 8.

@@ -110,16 +110,30 @@ impl Frame {
         self
     }
 
-    /// The same frame, calling `hook` with every tile as soon as it is rendered.
+    /// The same frame, calling `hook` with every tile as soon as it is rendered (after the
+    /// tile hook the frame already had, if any).
     pub fn with_tile_hook(mut self, hook: TileHook) -> Frame {
-        self.on_tile = Some(hook);
+        self.on_tile = Some(match self.on_tile.take() {
+            Some(first) => Arc::new(move |out: &TileOutput| {
+                first(out);
+                hook(out);
+            }),
+            None => hook,
+        });
         self
     }
 
     /// The same frame, calling `hook` with every tile just before it is rendered, on the
-    /// thread that renders it (never for a tile skipped because the frame was cancelled).
+    /// thread that renders it (never for a tile skipped because the frame was cancelled;
+    /// after the start hook the frame already had, if any).
     pub fn with_start_hook(mut self, hook: StartHook) -> Frame {
-        self.on_start = Some(hook);
+        self.on_start = Some(match self.on_start.take() {
+            Some(first) => Arc::new(move |tile: Tile| {
+                first(tile);
+                hook(tile);
+            }),
+            None => hook,
+        });
         self
     }
 

@@ -4,7 +4,8 @@
 //! the [`modes::Scheduler`] trait and the six built-in ways to share a frame's tiles among
 //! threads (serial, static blocks, interleaved rows, the two pools, stealing); [`progressive`] refines
 //! an image pass after pass, cancellably, on any of them, and [`adaptive`] spends those passes
-//! where the image is still noisy; [`conformance`] is the check a student's scheduler must pass.
+//! where the image is still noisy; [`observe`] records, from inside a frame, which threads
+//! rendered which pixels how often; [`conformance`] is the check a student's scheduler must pass.
 //!
 //! It may use [`crate::tracer`], [`crate::files`] (a frame is assembled into an
 //! [`crate::files::image::Image`]), [`crate::scenes`] (the conformance check renders a built-in
@@ -15,4 +16,5 @@ pub mod progressive;
 pub mod frame;
 pub mod adaptive;
 pub mod modes;
+pub mod observe;
 pub mod conformance;

@@ -4,19 +4,29 @@
 //! After Stanford CS149's task-library assignment: conformance first (a submission that
 //! breaks the contract scores 0 and is not timed), then a suite of workloads
 //! ([`workloads`](mod@workloads)), each scored by the submission's time ÷ the reference's time
-//! *measured in the same run*, alternating the two, so that a slow or busy machine moves both;
-//! [`report`] turns the ratios into points and the points into a score out of 100.
+//! *measured in the same run*, alternating the two, so that a slow machine moves both;
+//! [`judge`] refuses to score times from a machine too busy to run threads in parallel, or
+//! rounds that disagree; [`report`] turns the ratios into points and the points into a score
+//! out of 100.
 //!
-//! The reference is the built-in `steal` mode for a scheduler, and the built-in `Stealing`
-//! discipline under the same scheduler for a queue ([`on_queue`]). Every workload's image is
-//! also compared with the reference's, bit for bit. This file grades: [`grade`],
+//! Every timed frame is watched from inside ([`Observer`]): a submission that breaks the
+//! conformance rules only when timed (more threads, a tile rendered twice) earns nothing for
+//! that workload, and the observed load imbalance judges the workloads whose cost sits in one
+//! part of the image, which a busy machine does not change.
+//!
+//! The reference is the built-in `steal` scheduling (tiles as jobs on a work-stealing pool)
+//! on one pool kept for the whole run, for a scheduler, and the built-in `Stealing` discipline
+//! under the same scheduler for a queue ([`on_queue`]). Every workload's image is also
+//! compared with the reference's, bit for bit. This file grades: [`grade`],
 //! [`grade_and_report`], and [`main`], the whole of a starter's grade binary.
 
 pub mod workloads;
 pub mod on_queue;
+pub mod judge;
 pub mod report;
 
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Instant;
 
 use pool::{Discipline, MakeQueue};
@@ -25,13 +35,14 @@ use crate::error::Error;
 use crate::files::image::Image;
 use crate::files::output::write_text;
 use crate::measure::grade::on_queue::OnQueue;
-use crate::measure::grade::report::{Report, Score, points};
+use crate::measure::grade::report::{MachineCheck, Report, Score, Verdict};
 use crate::measure::grade::workloads::{Workload, workloads};
 use crate::measure::machine::{Machine, Sweep, thread_counts};
 use crate::measure::speedup::median;
 use crate::schedule::conformance;
 use crate::schedule::frame::Frame;
-use crate::schedule::modes::{Schedule, Scheduler};
+use crate::schedule::modes::Scheduler;
+use crate::schedule::observe::Observer;
 use crate::tracer::render::TileOutput;
 
 /// What is graded.
@@ -64,6 +75,18 @@ pub struct Options {
     /// Where to write the report (Markdown)
     #[arg(long, default_value = "grade.md")]
     pub out: PathBuf,
+    /// The score out of 100 below which the run exits with code 1 (a failed conformance
+    /// always does; code 3: the machine was too busy to judge)
+    #[arg(long, default_value_t = 50.0, value_parser = pass_mark)]
+    pub pass: f64,
+}
+
+/// A pass mark from 0 to 100 (clap's parser for `--pass`).
+pub fn pass_mark(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(p) if (0.0..=100.0).contains(&p) => Ok(p),
+        _ => Err(format!("'{text}' is not a score from 0 to 100")),
+    }
 }
 
 /// A count of at least 1 (clap's parser for `--threads`).
@@ -74,26 +97,31 @@ pub fn at_least_one(text: &str) -> Result<usize, String> {
     }
 }
 
-/// Grades `submission`: conformance at every thread count of `options` (and 1), then the
-/// workloads. `log` gets a progress line per step.
+/// Grades `submission`: conformance at every thread count of `options`, then the workloads,
+/// thread count by thread count, each between two machine checks. `log` gets a progress
+/// line per step.
 pub fn grade(submission: &Submission, options: &Options, mut log: impl FnMut(&str)) -> Result<Report, Error> {
     let counts = thread_counts(&options.threads, Sweep::DoublingsToTheCpus);
     let queue = matches!(submission.entry, Entry::Queue(_));
     let on_queue;
-    let (scheduler, reference_scheduler, reference): (&dyn Scheduler, Box<dyn Scheduler>, _) =
-        match &submission.entry {
-            Entry::Scheduler(s) => (*s, Box::new(Schedule::Stealing), "the built-in `steal` mode"),
-            Entry::Queue(make) => {
-                on_queue = OnQueue::new(*make, false);
-                let reference = OnQueue::new(Discipline::Stealing.queue(), false);
-                (&on_queue, Box::new(reference), "the built-in `Stealing` discipline, same scheduler")
-            }
-        };
+    let (scheduler, reference_scheduler, reference): (&dyn Scheduler, OnQueue, _) = match &submission.entry {
+        Entry::Scheduler(s) => (
+            *s,
+            OnQueue::new(Discipline::Stealing.queue(), false),
+            "the built-in `steal` scheduling (tiles as jobs on a work-stealing pool), on one pool kept for the whole run",
+        ),
+        Entry::Queue(make) => {
+            on_queue = OnQueue::new(*make, false);
+            let reference = OnQueue::new(Discipline::Stealing.queue(), false);
+            (&on_queue, reference, "the built-in `Stealing` discipline, same scheduler")
+        }
+    };
     let mut report = Report {
         name: submission.name.clone(),
         reference,
         conformance: Ok(Vec::new()),
         scores: Vec::new(),
+        machine_checks: Vec::new(),
         machine: Machine::current(),
     };
     report.conformance = check_conformance(&submission.entry, scheduler, &counts, &mut log);
@@ -107,16 +135,74 @@ pub fn grade(submission: &Submission, options: &Options, mut log: impl FnMut(&st
         }
         Entry::Scheduler(_) => (None, None),
     };
-    for workload in workloads(queue) {
-        let (sub, refr): (&dyn Scheduler, &dyn Scheduler) = match (&nested, &nested_reference) {
+    let suite = workloads(queue);
+    let pick = |workload: &Workload| -> (&dyn Scheduler, &dyn Scheduler) {
+        match (&nested, &nested_reference) {
             (Some(n), Some(r)) if workload.nested => (n, r),
-            _ => (scheduler, reference_scheduler.as_ref()),
+            _ => (scheduler, &reference_scheduler),
+        }
+    };
+    let rounds = options.rounds.max(1);
+    let time_row = |workload: &Workload, threads: usize| -> Result<Score, Error> {
+        let (sub, refr) = pick(workload);
+        let mut score = time_workload(workload, threads, sub, refr, rounds)?;
+        for _ in 1..judge::ATTEMPTS {
+            if score.unjudged.is_none() {
+                break;
+            }
+            score = time_workload(workload, threads, sub, refr, rounds)?;
+        }
+        Ok(score)
+    };
+    for &threads in &counts {
+        // The speedup check needs a second thread count to compare with: none at 1 thread.
+        let check = |report: &mut Report| -> Result<Option<String>, Error> {
+            if threads == 1 {
+                return Ok(None);
+            }
+            let speedup = judge::reference_speedup(&reference_scheduler, &suite[0], threads)?;
+            let busy = judge::too_busy(speedup, threads);
+            report.machine_checks.push(MachineCheck {
+                threads,
+                speedup: Some(speedup),
+                others: None,
+                busy: busy.clone(),
+            });
+            Ok(busy)
         };
-        for &threads in &counts {
-            let score = time_workload(&workload, threads, sub, refr, options.rounds.max(1))?;
+        let mut rows = Vec::new();
+        let mut busy = None;
+        for attempt in 1..=judge::ATTEMPTS {
+            busy = check(&mut report)?;
+            if busy.is_none() {
+                let usage = judge::Usage::now();
+                rows = suite.iter().map(|w| time_row(w, threads)).collect::<Result<_, _>>()?;
+                let others = usage.and_then(|u| u.others_since());
+                busy = judge::competing(others, threads);
+                report.machine_checks.push(MachineCheck {
+                    threads,
+                    speedup: None,
+                    others,
+                    busy: busy.clone(),
+                });
+                busy = busy.or(check(&mut report)?);
+            }
+            let Some(why) = &busy else { break };
+            log(&format!("attempt {attempt} at {threads} threads: {why}"));
+            if attempt < judge::ATTEMPTS {
+                std::thread::sleep(std::time::Duration::from_secs(2));
+            }
+        }
+        if let Some(why) = busy {
+            rows = suite.iter().map(|w| Score::unjudged(w, threads, &why)).collect();
+        }
+        for score in rows {
             log(&format!(
-                "{:<12} {threads:>3} threads: {:.2}× the reference, {:.2} points",
-                workload.name, score.ratio, score.points
+                "{:<12} {threads:>3} threads: {:.2}× the reference, {:.2} points{}",
+                score.workload,
+                score.ratio,
+                score.points,
+                score.unjudged.as_ref().map_or(String::new(), |w| format!(" ({w})"))
             ));
             report.scores.push(score);
         }
@@ -124,7 +210,7 @@ pub fn grade(submission: &Submission, options: &Options, mut log: impl FnMut(&st
     Ok(report)
 }
 
-/// Conformance at 1 and every count: the queue's own check first for a queue.
+/// Conformance at every count asked for: the queue's own check first for a queue.
 fn check_conformance(
     entry: &Entry,
     scheduler: &dyn Scheduler,
@@ -135,7 +221,7 @@ fn check_conformance(
         pool::conformance::check(*make).map_err(|e| format!("the queue: {e}"))?;
         log("conformance: the queue keeps the pool's contract");
     }
-    let mut checked: Vec<usize> = std::iter::once(1).chain(counts.iter().copied()).collect();
+    let mut checked = counts.to_vec();
     checked.sort_unstable();
     checked.dedup();
     for &threads in &checked {
@@ -145,8 +231,35 @@ fn check_conformance(
     Ok(checked)
 }
 
+/// One timed render of a workload (its `frames` frames): its seconds, and the last frame's
+/// tiles with the median imbalance the frames saw, or what rule the frames saw broken.
+/// Watching costs both sides alike; checking what was seen happens after the clock stops.
+fn timed(
+    scheduler: &dyn Scheduler,
+    workload: &Workload,
+    frame: &Arc<Frame>,
+) -> (f64, Result<(Vec<TileOutput>, f64), String>) {
+    let start = Instant::now();
+    let renders: Vec<(Arc<Observer>, Vec<TileOutput>)> = (0..workload.frames)
+        .map(|_| {
+            let (observer, watched) = Observer::watch(frame);
+            (observer, scheduler.render(&watched))
+        })
+        .collect();
+    let seconds = start.elapsed().as_secs_f64();
+    let mut imbalances = Vec::new();
+    for (observer, tiles) in &renders {
+        if let Err(e) = observer.verify(frame, tiles, frame.threads) {
+            return (seconds, Err(e));
+        }
+        imbalances.push(observer.imbalance(frame.threads));
+    }
+    let last = renders.into_iter().last().map(|(_, tiles)| tiles).unwrap_or_default();
+    (seconds, Ok((last, median(&mut imbalances))))
+}
+
 /// Times `workload` on `threads` threads: `rounds` rounds, each timing the submission and
-/// the reference once (in alternating order).
+/// the reference once (in alternating order), every frame watched.
 fn time_workload(
     workload: &Workload,
     threads: usize,
@@ -155,40 +268,43 @@ fn time_workload(
     rounds: usize,
 ) -> Result<Score, Error> {
     let frame = workload.frame(threads)?;
-    let mut times = (Vec::new(), Vec::new());
+    let (mut times, mut imbalances) = ((Vec::new(), Vec::new()), (Vec::new(), Vec::new()));
     let mut failure = None;
     for round in 0..rounds {
-        let time = |scheduler: &dyn Scheduler| {
-            let start = Instant::now();
-            let mut tiles = Vec::new();
-            for _ in 0..workload.frames {
-                tiles = scheduler.render(&frame);
-            }
-            (start.elapsed().as_secs_f64(), tiles)
-        };
-        let ((s, sub_tiles), (r, ref_tiles)) = if round % 2 == 0 {
-            let s = time(submission);
-            (s, time(reference))
+        let ((s, sub), (r, refr)) = if round % 2 == 0 {
+            let s = timed(submission, workload, &frame);
+            (s, timed(reference, workload, &frame))
         } else {
-            let r = time(reference);
-            (time(submission), r)
+            let r = timed(reference, workload, &frame);
+            (timed(submission, workload, &frame), r)
         };
         times.0.push(s);
         times.1.push(r);
-        if round == 0 {
-            failure = same_image(&frame, &sub_tiles, &ref_tiles).err();
+        let (ref_tiles, ref_imbalance) =
+            refr.map_err(|e| Error::new(format!("the reference broke a rule: {e}")))?;
+        imbalances.1.push(ref_imbalance);
+        match sub {
+            Err(e) => failure = failure.or(Some(format!("when timed: {e}"))),
+            Ok((tiles, imbalance)) => {
+                imbalances.0.push(imbalance);
+                if round == 0 {
+                    failure = failure.or(same_image(&frame, &tiles, &ref_tiles).err());
+                }
+            }
         }
     }
-    let ratio = median(&mut times.0.iter().zip(&times.1).map(|(s, r)| s / r).collect::<Vec<_>>());
-    Ok(Score {
-        workload: workload.name,
-        exposes: workload.exposes,
+    let ratios: Vec<f64> = times.0.iter().zip(&times.1).map(|(s, r)| s / r).collect();
+    // No imbalance for a submission whose every round broke a rule (it earns nothing).
+    let median_of = |xs: &mut Vec<f64>| if xs.is_empty() { f64::NAN } else { median(xs).max(1.0) };
+    let imbalance = (median_of(&mut imbalances.0), median_of(&mut imbalances.1));
+    Ok(Score::measured(
+        workload,
         threads,
-        seconds: (median(&mut times.0), median(&mut times.1)),
-        ratio,
-        points: if failure.is_some() { 0.0 } else { points(ratio) },
+        (median(&mut times.0), median(&mut times.1)),
+        ratios,
+        imbalance,
         failure,
-    })
+    ))
 }
 
 fn same_image(frame: &Frame, submission: &[TileOutput], reference: &[TileOutput]) -> Result<(), String> {
@@ -203,35 +319,96 @@ fn same_image(frame: &Frame, submission: &[TileOutput], reference: &[TileOutput]
 
 /// Grades each submission, prints the reports and writes them, one after the other, to
 /// `options.out`: the body of `raypool grade` and of a starter's grade binary ([`main`]).
-/// `command` is the command line, quoted in the reports.
-pub fn grade_and_report(submissions: &[&Submission], options: &Options, command: &str) -> Result<(), Error> {
-    let reports = submissions
-        .iter()
-        .map(|s| grade(s, options, |line| eprintln!("{line}")).map(|r| r.markdown(command)))
-        .collect::<Result<Vec<_>, _>>()?;
+/// `command` is the command line, quoted in the reports. A submission whose code panics (an
+/// unfinished part's `todo!()`) fails its conformance with the panic's message, and the
+/// others are still graded. Returns the worst verdict.
+pub fn grade_and_report(
+    submissions: &[&Submission],
+    options: &Options,
+    command: &str,
+) -> Result<Verdict, Error> {
+    let mut reports = Vec::new();
+    let mut verdict = Verdict::Passed;
+    for submission in submissions {
+        let report = grade_catching_panics(submission, options)?;
+        verdict = match (verdict, report.verdict(options.pass)) {
+            (Verdict::Failed, _) | (_, Verdict::Failed) => Verdict::Failed,
+            (Verdict::Unjudged, _) | (_, Verdict::Unjudged) => Verdict::Unjudged,
+            _ => Verdict::Passed,
+        };
+        reports.push(report.markdown(command, options.pass));
+    }
     let all = reports.join("\n");
     write_text(&options.out, &all)?;
     println!("{all}");
     eprintln!("report written to {}", options.out.display());
-    Ok(())
+    Ok(verdict)
+}
+
+/// [`grade`], with a panic in the submission's code turned into a failed conformance that
+/// quotes it (where it happened, and its message), instead of a backtrace.
+fn grade_catching_panics(submission: &Submission, options: &Options) -> Result<Report, Error> {
+    let caught: Arc<parking_lot::Mutex<Option<String>>> = Arc::default();
+    let seen = Arc::clone(&caught);
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let message = info
+            .payload()
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| info.payload().downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic".into());
+        let at = info.location().map_or(String::new(), |l| format!(" at {}:{}", l.file(), l.line()));
+        seen.lock().get_or_insert(format!("{message}{at}"));
+    }));
+    let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        grade(submission, options, |line| eprintln!("{line}"))
+    }));
+    std::panic::set_hook(previous);
+    let panicked = caught.lock().take();
+    match outcome {
+        // A panic the submission's own checks caught (the queue's contract runs it on its own
+        // threads): the conformance failure quotes it.
+        Ok(Ok(mut report)) => {
+            if let (Err(e), Some(why)) = (&mut report.conformance, panicked) {
+                let e_text = e.trim_end_matches(" (see the message above)");
+                *e = format!("{e_text}: {why} (is this part finished?)");
+            }
+            Ok(report)
+        }
+        Ok(Err(e)) => Err(e),
+        Err(_) => {
+            let why = panicked.unwrap_or_else(|| "a panic".into());
+            let conformance = Err(format!("the code panicked: {why} (is this part finished?)"));
+            Ok(Report {
+                name: submission.name.clone(),
+                reference: "none (not timed)",
+                conformance,
+                scores: Vec::new(),
+                machine_checks: Vec::new(),
+                machine: Machine::current(),
+            })
+        }
+    }
 }
 
 /// The command line of a starter's grade binary (see [`main`]).
 #[derive(clap::Parser, Debug)]
 #[command(about = "Grade this crate's submissions: conformance, then workloads timed against the reference")]
 struct GradeCommand {
-    /// Grade only this part (by name) [default: every part]
+    /// Grade only this part [default: every part]
     #[arg(long)]
     part: Option<String>,
-    /// Thread counts, rounds, report file.
+    /// Thread counts, rounds, report file, pass mark.
     #[command(flatten)]
     options: Options,
 }
 
-/// The whole of a starter's grade binary: parses `--part`, `--threads`, `--rounds` and
-/// `--out`, grades each submission (or the one named), prints the reports and writes them,
-/// one after the other, to `--out`. Exit code 0 once graded (the score is in the report),
-/// 2 for a bad command line or an unwritable report.
+/// The whole of a starter's grade binary: parses `--part` (its values listed in `--help`),
+/// `--threads`, `--rounds`, `--out` and `--pass`, grades each submission (or the one named),
+/// prints the reports and writes them, one after the other, to `--out`. Exit code 0 when
+/// every part graded passed, 1 when one failed its conformance or scored below `--pass`, 3
+/// when the machine was too busy to judge, 2 for a bad command line or an unwritable report.
 ///
 /// ```no_run
 /// # struct MyScheduler;
@@ -244,19 +421,17 @@ struct GradeCommand {
 /// }
 /// ```
 pub fn main(submissions: &[Submission]) -> std::process::ExitCode {
-    use clap::Parser as _;
-    let command = GradeCommand::parse();
+    use clap::{CommandFactory as _, FromArgMatches as _};
+    let names: Vec<String> = submissions.iter().map(|s| s.name.clone()).collect();
+    let matches = GradeCommand::command()
+        .mut_arg("part", |a| a.value_parser(clap::builder::PossibleValuesParser::new(names)))
+        .get_matches();
+    let command = GradeCommand::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     let chosen: Vec<&Submission> =
         submissions.iter().filter(|s| command.part.as_ref().is_none_or(|p| *p == s.name)).collect();
-    let names: Vec<&str> = submissions.iter().map(|s| s.name.as_str()).collect();
-    let outcome = if chosen.is_empty() {
-        Err(Error::new(format!("--part: no part named {:?} (parts: {})", command.part, names.join(", "))))
-    } else {
-        let line = std::env::args().collect::<Vec<_>>().join(" ");
-        grade_and_report(&chosen, &command.options, &line)
-    };
-    match outcome {
-        Ok(()) => std::process::ExitCode::SUCCESS,
+    let line = std::env::args().collect::<Vec<_>>().join(" ");
+    match grade_and_report(&chosen, &command.options, &line) {
+        Ok(verdict) => std::process::ExitCode::from(verdict.exit_code()),
         Err(e) => {
             eprintln!("grade: error: {e}");
             std::process::ExitCode::from(e.exit_code())

@@ -42,6 +42,9 @@ pub struct Workload {
     pub frames: usize,
     /// Queues only: render through nested batches.
     pub nested: bool,
+    /// Its cost sits in one part of the image: the points are capped by the ratio of the
+    /// load imbalances the frames saw, which a busy machine does not change.
+    pub judged_by_balance: bool,
 }
 
 const FLAT: &str = include_str!("workloads/flat.toml");
@@ -57,6 +60,7 @@ pub fn workloads(queue: bool) -> Vec<Workload> {
         tile: 16,
         frames: 1,
         nested: false,
+        judged_by_balance: false,
     };
     let mut suite = vec![
         Workload { ..base },
@@ -64,6 +68,7 @@ pub fn workloads(queue: bool) -> Vec<Workload> {
             name: "one-band",
             exposes: "a static split: the cost is all in the bottom rows",
             scene: include_str!("workloads/band.toml"),
+            judged_by_balance: true,
             ..base
         },
         Workload {
@@ -71,6 +76,7 @@ pub fn workloads(queue: bool) -> Vec<Workload> {
             exposes: "big chunks: a few tiles, all in the upper half, cost ten times the others",
             scene: include_str!("workloads/tail.toml"),
             spp: 16,
+            judged_by_balance: true,
             ..base
         },
         Workload {
