@@ -60,7 +60,7 @@ pub enum Command {
 
 /// What to render and how: the scene, the image size and the sampling (shared by `render`,
 /// `simulate` and `view`).
-#[derive(Debug, Args)]
+#[derive(Clone, Debug, Args)]
 pub struct ImageArgs {
     /// Built-in scene (see `raypool scenes`).
     #[arg(long, default_value = "final", conflicts_with = "scene_file")]
@@ -121,7 +121,7 @@ pub struct ImageArgs {
 }
 
 /// Who renders, and with which random numbers (shared by `render` and `view`).
-#[derive(Debug, Args)]
+#[derive(Clone, Debug, Args)]
 pub struct WorkerArgs {
     /// Worker threads [default: the number of CPUs].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
@@ -157,7 +157,7 @@ pub struct RenderArgs {
 }
 
 /// Options of `raypool view` (and of each render the page asks for).
-#[derive(Debug, Args)]
+#[derive(Clone, Debug, Args)]
 pub struct ViewArgs {
     /// The scene, image size and sampling (--spp: the samples the passes accumulate up to).
     #[command(flatten)]

@@ -2,7 +2,8 @@
 //! come from (per-sample streams, or the seed paper's generator shared behind a lock); a
 //! [`frame::Frame`] is a render in progress and the only way to render a tile; [`modes`] holds
 //! the [`modes::Scheduler`] trait and the six built-in ways to share a frame's tiles among
-//! threads (serial, static blocks, interleaved rows, the two pools, stealing); [`progressive`] refines
+//! threads (serial, static blocks, interleaved rows, the two pools, stealing), and [`kept`]
+//! keeps a pool mode's pool from one render to the next; [`progressive`] refines
 //! an image pass after pass, cancellably, on any of them, and [`adaptive`] spends those passes
 //! where the image is still noisy; [`observe`] records, from inside a frame, which threads
 //! rendered which pixels how often; [`conformance`] is the check a student's scheduler must pass.
@@ -16,5 +17,6 @@ pub mod progressive;
 pub mod frame;
 pub mod adaptive;
 pub mod modes;
+pub mod kept;
 pub mod observe;
 pub mod conformance;

@@ -113,9 +113,23 @@ impl Scheduler for Schedule {
                     (0..t).map(|k| rows.iter().skip(k).step_by(t).copied().collect()).collect(),
                 )
             }
-            Schedule::PoolRows => on_pool(frame, Discipline::Shared, frame.rows()),
-            Schedule::PoolTiles => on_pool(frame, Discipline::Shared, frame.tiles()),
-            Schedule::Stealing => on_pool(frame, Discipline::Stealing, frame.tiles()),
+            Schedule::PoolRows | Schedule::PoolTiles | Schedule::Stealing => {
+                let (discipline, jobs) = self.pool_jobs(frame).expect("a pool mode");
+                on_pool(frame, discipline, jobs)
+            }
+        }
+    }
+}
+
+impl Schedule {
+    /// For a mode that renders on a pool: the pool's discipline and the jobs (rows or tiles)
+    /// of `frame`; `None` for the modes on scoped threads.
+    pub fn pool_jobs(self, frame: &Frame) -> Option<(Discipline, Vec<Tile>)> {
+        match self {
+            Schedule::PoolRows => Some((Discipline::Shared, frame.rows())),
+            Schedule::PoolTiles => Some((Discipline::Shared, frame.tiles())),
+            Schedule::Stealing => Some((Discipline::Stealing, frame.tiles())),
+            Schedule::Serial | Schedule::StaticBlocks | Schedule::Interleaved => None,
         }
     }
 }

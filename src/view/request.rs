@@ -2,13 +2,16 @@
 //!
 //! The page asks for a render with `POST /render?mode=steal&threads=2&width=400&…`. Each query
 //! parameter `name=value` becomes the flag `--name value` and the whole list is parsed by the
-//! same clap definition as `raypool view`'s own flags, so a request gets the command line's
-//! limits (sizes ≤ 16384, threads ≤ 4096, …) and its one-line messages. Two parameters are the
-//! page's own: `lookfrom=x,y,z` (the orbiting camera) and a pasted scene in the body.
+//! same clap definition as `raypool view`'s own flags, *on top of the flags in effect*, so a
+//! request changes only what it names (`threads=1` keeps the scene, camera, mode and spp)
+//! and gets the command line's limits (sizes ≤ 16384, threads ≤ 4096, …) and its one-line
+//! messages. Two parameters are the page's own: `lookfrom=x,y,z` (the orbiting camera) and a
+//! pasted scene in the body. A request that names neither `scene` nor a pasted scene keeps
+//! the current scene, camera included; `height=auto` returns to the scene's aspect.
 //! Parameters that would reach outside the page are refused: `scene-file` (a path on the
 //! server), `port`, `bind`, and adaptive sampling, which progressive passes do not do.
 
-use clap::Parser;
+use clap::{CommandFactory as _, FromArgMatches as _};
 
 use crate::cli::args::{ViewArgs, one_line};
 use crate::cli::settings::{load_scene, render_job, render_settings, scene_name, worker_threads};
@@ -35,7 +38,7 @@ pub fn max_threads() -> usize {
 }
 
 /// What `raypool view`'s flags parse into, for parsing a request the same way.
-#[derive(Debug, Parser)]
+#[derive(Debug, clap::Parser)]
 #[command(name = "view")]
 struct ViewRequest {
     #[command(flatten)]
@@ -54,34 +57,65 @@ const REFUSED: &[(&str, &str)] = &[
     ("version", "not a render setting"),
 ];
 
-/// Parses a request's query string and body into a render [`Config`].
-pub fn parse(query: &str, body: &str) -> Result<Config, Error> {
+/// Parses a request's query string and body into a render [`Config`]: `current`'s, changed
+/// as far as the request says.
+pub fn parse(query: &str, body: &str, current: &Config) -> Result<Config, Error> {
     let mut argv = vec!["view".to_string()];
-    let mut lookfrom = None;
+    let (mut lookfrom, mut roulette, mut names_scene, mut auto_height) = (None, None, false, false);
     for (name, value) in form_urlencoded::parse(query.as_bytes()) {
         if let Some((_, why)) = REFUSED.iter().find(|(refused, _)| *refused == name) {
             return Err(Error::new(format!("'{name}' cannot be set by a request: {why}")));
         }
         match name.as_ref() {
             "lookfrom" => lookfrom = Some(point(&value)?),
+            // The height in effect stays unless named: `auto` names the scene's aspect again.
+            "height" if value == "auto" => auto_height = true,
+            // A flag's absence cannot switch it off on top of the flags in effect: say it.
             "roulette" => match value.as_ref() {
-                "true" | "1" | "on" => argv.push("--roulette".into()),
-                "false" | "0" | "off" => {}
+                "true" | "1" | "on" => roulette = Some(true),
+                "false" | "0" | "off" => roulette = Some(false),
                 other => return Err(Error::new(format!("roulette must be true or false, not '{other}'"))),
             },
-            _ => argv.extend([format!("--{name}"), value.into_owned()]),
+            _ => {
+                names_scene |= name == "scene" || name == "scene-seed";
+                argv.extend([format!("--{name}"), value.into_owned()]);
+            }
         }
     }
-    let request = ViewRequest::try_parse_from(&argv).map_err(|e| Error::new(one_line(&e)))?;
-    let pasted = (!body.trim().is_empty()).then_some(body);
-    config(&request.args, pasted, lookfrom)
+    // The flags' defaults are dropped, so that a flag the request does not name keeps the
+    // value in effect instead of going back to its default.
+    let command = ViewRequest::command().mut_args(|arg| arg.default_value(None::<&str>));
+    let matches = command.try_get_matches_from(&argv).map_err(|e| Error::new(one_line(&e)))?;
+    let mut request = ViewRequest { args: current.args.clone() };
+    request.update_from_arg_matches(&matches).map_err(|e| Error::new(one_line(&e)))?;
+    let mut args = request.args;
+    if let Some(on) = roulette {
+        args.image.roulette = on;
+    }
+    if auto_height {
+        args.image.height = None;
+    }
+    let scene = if !body.trim().is_empty() {
+        Some(("pasted scene".to_string(), SceneFile::parse(body, "pasted scene")?))
+    } else if names_scene {
+        args.image.scene_file = None; // a built-in named now replaces a file named at the start
+        None
+    } else {
+        Some((current.name.clone(), current.scene.clone()))
+    };
+    config(&args, scene, lookfrom)
 }
 
-/// The render `args` ask for, of the pasted scene if any, seen from `lookfrom` if given.
-pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>) -> Result<Config, Error> {
+/// The render `args` ask for, of `scene` (named) or else the scene the flags name, seen from
+/// `lookfrom` if given.
+pub fn config(
+    args: &ViewArgs,
+    scene: Option<(String, SceneFile)>,
+    lookfrom: Option<[f64; 3]>,
+) -> Result<Config, Error> {
     let image = &args.image;
-    let (name, mut scene) = match pasted {
-        Some(text) => ("pasted scene".to_string(), SceneFile::parse(text, "pasted scene")?),
+    let (name, mut scene) = match scene {
+        Some(named) => named,
         None => (scene_name(image), load_scene(image)?),
     };
     if let Some(eye) = lookfrom {
@@ -121,6 +155,7 @@ pub fn config(args: &ViewArgs, pasted: Option<&str>, lookfrom: Option<[f64; 3]>)
         mode: args.workers.mode,
         tile: image.tile,
         rng: args.workers.rng,
+        args: args.clone(),
     })
 }
 

@@ -139,7 +139,7 @@ fn state(session: &Session) -> String {
 fn render(session: &Arc<Session>, request: &Request) -> Answer {
     let body = std::str::from_utf8(&request.body)
         .map_err(|_| (400, "the pasted scene is not UTF-8 text".to_string()))?;
-    let config = parse(&request.query, body).map_err(|e| (400, e.to_string()))?;
+    let config = parse(&request.query, body, &session.current().1).map_err(|e| (400, e.to_string()))?;
     let generation = session.restart(config);
     Ok(Response {
         status: 202,

@@ -1,5 +1,6 @@
-//! The render session: one progressive render at a time, on our own pool, its events fanned
-//! out to every page that listens.
+//! The render session: one progressive render at a time, on our own pool (one pool for the
+//! whole session, kept from pass to pass and render to render), its events fanned out to
+//! every page that listens.
 //!
 //! [`Session::restart`] cancels the running render (its jobs see the cancel flag before their
 //! next tile, so it stops within one tile's time), waits for its thread, and starts the new
@@ -22,9 +23,11 @@ use crossbeam_channel::{Receiver, Sender};
 use parking_lot::Mutex;
 use serde_json::json;
 
+use crate::cli::args::ViewArgs;
 use crate::files::image::Image;
 use crate::scenes::format::SceneFile;
 use crate::schedule::frame::Frame;
+use crate::schedule::kept::KeptPool;
 use crate::schedule::modes::{Schedule, render};
 use crate::schedule::progressive::{Cancel, Pass, Sums};
 use crate::schedule::random::{RngChoice, RngSource};
@@ -58,6 +61,9 @@ pub struct Config {
     pub tile: u32,
     /// Per-sample streams, or one generator behind a lock for all threads.
     pub rng: RngChoice,
+    /// The flags in effect (the command line's, as later requests changed them): a request
+    /// changes only what it names.
+    pub args: ViewArgs,
 }
 
 /// The latest finished pass.
@@ -81,6 +87,9 @@ struct Current {
 /// The viewer's one render at a time and the pages listening to it.
 pub struct Session {
     current: Mutex<Current>,
+    /// The pool every render of the session runs on (in a pool mode): one for the session,
+    /// not one per pass; replaced only when a request asks for other threads or discipline.
+    pool: KeptPool,
     /// Serialises restarts, so two requests cannot both start a render.
     restarting: Mutex<()>,
     latest: Mutex<Option<Snapshot>>,
@@ -121,6 +130,7 @@ impl Session {
                 cancel: Cancel::default(),
                 thread: None,
             }),
+            pool: KeptPool::new(config.mode),
             restarting: Mutex::new(()),
             latest: Mutex::new(None),
             pages: Mutex::new(Pages::default()),
@@ -254,7 +264,7 @@ impl Session {
             .with_cancel(cancel.clone())
             .with_tile_hook(hook);
             let pass_start = Instant::now();
-            let rendered = render(&Arc::new(frame), &config.mode);
+            let rendered = render(&Arc::new(frame), &self.pool.with_mode(config.mode));
             if cancel.is_cancelled() {
                 return;
             }
