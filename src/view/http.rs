@@ -23,6 +23,7 @@
 
 use std::io::{Read, Write};
 use std::net::TcpStream;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 /// Largest request head, bytes.
@@ -178,14 +179,14 @@ pub struct Response {
     pub status: u16,
     /// Header names and values (`Content-Length` and `Connection` are added).
     pub headers: Vec<(&'static str, String)>,
-    /// The body.
-    pub body: Vec<u8>,
+    /// The body (shared: the same encoded image goes to every reader of a pass).
+    pub body: Arc<[u8]>,
 }
 
 impl Response {
     /// A 200 with `content_type`.
-    pub fn ok(content_type: &str, body: Vec<u8>) -> Response {
-        Response { status: 200, headers: vec![("Content-Type", content_type.into())], body }
+    pub fn ok(content_type: &str, body: impl Into<Arc<[u8]>>) -> Response {
+        Response { status: 200, headers: vec![("Content-Type", content_type.into())], body: body.into() }
     }
 
     /// `status` with a one-line plain-text reason.
@@ -193,7 +194,7 @@ impl Response {
         Response {
             status,
             headers: vec![("Content-Type", "text/plain; charset=utf-8".into())],
-            body: format!("{reason}\n").into_bytes(),
+            body: format!("{reason}\n").into_bytes().into(),
         }
     }
 

@@ -7,7 +7,7 @@
 //! | `GET /state` | JSON: the running render's settings and the built-in scenes |
 //! | `GET /events` | server-sent events: `start`, then a `tile` per finished tile, a `pass` per pass, `done` |
 //! | `POST /render?flag=value…` | cancels the running render and starts this one (body: a pasted TOML scene, optional); 202 |
-//! | `GET /image.pfm`, `/image.png` | the image after the latest finished pass; header `X-Raypool-Spp` says how many samples |
+//! | `GET /image.pfm`, `/image.png` | the image after the latest finished pass, encoded once per pass for every reader (at most 32 at once, then 503); header `X-Raypool-Spp` says how many samples |
 //! | `GET /scene.toml` | the running render's scene, camera included |
 //!
 //! Every connection is answered on its own short thread (an event stream lives as long as its
@@ -28,12 +28,12 @@ use std::time::Duration;
 use crossbeam_channel::RecvTimeoutError;
 use serde_json::json;
 
-use crate::files::output::{Format, encode};
+use crate::files::output::Format;
 use crate::scenes::builtin::BUILTINS;
 use crate::schedule::random::RngChoice;
 use crate::view::http::{Request, Response, WRITE_TIME, read_request};
 use crate::view::request::{MAX_PASTED_SCENE, parse};
-use crate::view::session::Session;
+use crate::view::session::{MAX_IMAGE_READERS, Session};
 
 /// The page, compiled in: no CDN, works offline.
 const PAGE: &str = include_str!("page.html");
@@ -107,8 +107,8 @@ pub fn handle(session: &Arc<Session>, origins: &Origins, mut stream: TcpStream) 
         ("GET", "/state") => Ok(Response::ok("application/json", state(session).into_bytes())),
         ("GET", "/events") => return stream_events(session, stream),
         ("POST", "/render") => render(session, &request),
-        ("GET", "/image.pfm") => image(session, Format::Pfm),
-        ("GET", "/image.png") => image(session, Format::Png),
+        ("GET", "/image.pfm") => return image(session, Format::Pfm, &mut stream),
+        ("GET", "/image.png") => return image(session, Format::Png, &mut stream),
         ("GET", "/scene.toml") => {
             Ok(Response::ok("text/plain; charset=utf-8", session.current().1.scene.to_toml().into_bytes()))
         }
@@ -147,16 +147,22 @@ fn render(session: &Arc<Session>, request: &Request) -> Answer {
     })
 }
 
-/// `GET /image.*`: the latest finished pass.
-fn image(session: &Session, format: Format) -> Answer {
-    let snapshot =
-        session.latest().ok_or((409, "no pass has finished yet: ask again in a moment".to_string()))?;
-    let mut bytes = Vec::new();
-    encode(&snapshot.image, format, &mut bytes).map_err(|e| (500, e))?;
-    let content_type = if format == Format::Png { "image/png" } else { "application/octet-stream" };
-    Ok(Response::ok(content_type, bytes)
-        .with("X-Raypool-Spp", snapshot.spp)
-        .with("X-Raypool-Gen", snapshot.generation))
+/// `GET /image.*`: the latest finished pass, encoded once per pass and shared; at most
+/// [`MAX_IMAGE_READERS`] answers written at once (503 past that).
+fn image(session: &Session, format: Format, stream: &mut TcpStream) {
+    let Some(_slot) = session.image_slot() else {
+        let busy = format!("{MAX_IMAGE_READERS} images are being sent: try again in a moment");
+        return Response::text(503, &busy).send(stream);
+    };
+    let answer = match session.encoded(format) {
+        Ok(Some((bytes, spp, generation))) => {
+            let content_type = if format == Format::Png { "image/png" } else { "application/octet-stream" };
+            Response::ok(content_type, bytes).with("X-Raypool-Spp", spp).with("X-Raypool-Gen", generation)
+        }
+        Ok(None) => Response::text(409, "no pass has finished yet: ask again in a moment"),
+        Err(e) => Response::text(500, &e),
+    };
+    answer.send(stream);
 }
 
 /// `GET /events`: server-sent events until the page goes or the server stops. A page that

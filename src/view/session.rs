@@ -15,6 +15,7 @@
 //! gone is dropped, never waited for.
 
 use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::thread::{JoinHandle, ThreadId};
 use std::time::Instant;
 
@@ -25,6 +26,7 @@ use serde_json::json;
 
 use crate::cli::args::ViewArgs;
 use crate::files::image::Image;
+use crate::files::output::{Format, encode};
 use crate::scenes::format::SceneFile;
 use crate::schedule::frame::Frame;
 use crate::schedule::kept::KeptPool;
@@ -92,8 +94,36 @@ pub struct Session {
     pool: KeptPool,
     /// Serialises restarts, so two requests cannot both start a render.
     restarting: Mutex<()>,
-    latest: Mutex<Option<Snapshot>>,
+    latest: Mutex<Option<Arc<Snapshot>>>,
+    /// The latest pass encoded, once per format however many pages ask for it.
+    encoded: Mutex<Vec<Encoded>>,
+    /// The latest pass as a `frame` event for pages that join late, built once, outside the
+    /// pages' lock (a 2048 × 2048 frame is 16 MB of base64).
+    frame: Mutex<Option<(u64, u32, Arc<str>)>>,
+    /// Image answers being written now (see [`Session::image_slot`]).
+    image_readers: AtomicUsize,
     pages: Mutex<Pages>,
+}
+
+/// One pass's image, encoded.
+struct Encoded {
+    generation: u64,
+    spp: u32,
+    format: Format,
+    bytes: Arc<[u8]>,
+}
+
+/// The most image answers written at once; more get 503. Each shares the one encoded image,
+/// so the cap bounds the connections slow readers hold, not memory.
+pub const MAX_IMAGE_READERS: usize = 32;
+
+/// A place among the [`MAX_IMAGE_READERS`] image answers, given back when dropped.
+pub struct ImageSlot<'a>(&'a AtomicUsize);
+
+impl Drop for ImageSlot<'_> {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::SeqCst);
+    }
 }
 
 /// The pages listening, and what a page that joins late is told first.
@@ -133,6 +163,9 @@ impl Session {
             pool: KeptPool::new(config.mode),
             restarting: Mutex::new(()),
             latest: Mutex::new(None),
+            encoded: Mutex::new(Vec::new()),
+            frame: Mutex::new(None),
+            image_readers: AtomicUsize::new(0),
             pages: Mutex::new(Pages::default()),
         });
         session.restart(config);
@@ -182,21 +215,68 @@ impl Session {
         (current.generation, Arc::clone(&current.config))
     }
 
-    /// The latest finished pass of the running render, if one has finished.
-    pub fn latest(&self) -> Option<Snapshot> {
+    /// The latest finished pass of the running render, if one has finished (shared, not
+    /// copied: a 2048 × 2048 image is 100 MB of sums).
+    pub fn latest(&self) -> Option<Arc<Snapshot>> {
         let generation = self.current.lock().generation;
         self.latest.lock().clone().filter(|s| s.generation == generation)
+    }
+
+    /// The latest finished pass encoded as `format`, its spp and generation: encoded once
+    /// per pass and format, the bytes shared by every request. `Ok(None)` before a first pass.
+    pub fn encoded(&self, format: Format) -> Result<Option<(Arc<[u8]>, u32, u64)>, String> {
+        let Some(snapshot) = self.latest() else { return Ok(None) };
+        // Held while encoding: a second request for the same pass waits and shares the bytes.
+        let mut encoded = self.encoded.lock();
+        encoded.retain(|e| e.generation == snapshot.generation && e.spp == snapshot.spp);
+        if let Some(e) = encoded.iter().find(|e| e.format == format) {
+            return Ok(Some((Arc::clone(&e.bytes), e.spp, e.generation)));
+        }
+        let mut bytes = Vec::new();
+        encode(&snapshot.image, format, &mut bytes)?;
+        let bytes: Arc<[u8]> = bytes.into();
+        let (generation, spp) = (snapshot.generation, snapshot.spp);
+        encoded.push(Encoded { generation, spp, format, bytes: Arc::clone(&bytes) });
+        Ok(Some((bytes, spp, generation)))
+    }
+
+    /// A place to write an image answer, or `None` when [`MAX_IMAGE_READERS`] are being
+    /// written.
+    pub fn image_slot(&self) -> Option<ImageSlot<'_>> {
+        if self.image_readers.fetch_add(1, Ordering::SeqCst) >= MAX_IMAGE_READERS {
+            self.image_readers.fetch_sub(1, Ordering::SeqCst);
+            return None;
+        }
+        Some(ImageSlot(&self.image_readers))
+    }
+
+    /// The `frame` event of `snapshot`, built once per pass.
+    fn frame_event_of(&self, snapshot: &Snapshot) -> Arc<str> {
+        let mut frame = self.frame.lock();
+        match &*frame {
+            Some((generation, spp, event)) if (*generation, *spp) == (snapshot.generation, snapshot.spp) => {
+                Arc::clone(event)
+            }
+            _ => {
+                let event: Arc<str> = frame_event(snapshot).into();
+                *frame = Some((snapshot.generation, snapshot.spp, Arc::clone(&event)));
+                event
+            }
+        }
     }
 
     /// A new page's event stream. It starts with what the page missed of the running render:
     /// its `start`, a `frame` with the image of its latest pass, the `tile`s of the latest pass
     /// that has any (outlines, timeline bars and their pixels), that `pass`, and `done`; so a
-    /// page opened late shows what a page open from the start shows.
+    /// page opened late shows what a page open from the start shows. The frame is built
+    /// before the pages' lock is taken (a render's tile hook takes that lock too); a pass that
+    /// ends meanwhile only means its tiles are drawn over a frame one pass older.
     pub fn subscribe(&self) -> Receiver<Arc<str>> {
         let (tx, rx) = crossbeam_channel::bounded(QUEUE);
+        let frame = self.latest().map(|s| self.frame_event_of(&s));
         let mut pages = self.pages.lock(); // no event goes out between the replay and the joining
-        let frame = pages.last_pass.as_ref().and_then(|_| self.latest()).map(|s| frame_event(&s));
-        let replay = [pages.start.clone(), frame.map(Into::into)]
+        let frame = frame.filter(|_| pages.last_pass.is_some());
+        let replay = [pages.start.clone(), frame]
             .into_iter()
             .flatten()
             .chain(pages.tiles.iter().cloned())
@@ -271,7 +351,7 @@ impl Session {
             done += more;
             let seconds = pass_start.elapsed().as_secs_f64();
             let (rays, imbalance) = (rendered.rays, rendered.imbalance());
-            *self.latest.lock() = Some(Snapshot { generation, spp: done, image: rendered.image });
+            *self.latest.lock() = Some(Arc::new(Snapshot { generation, spp: done, image: rendered.image }));
             self.broadcast(
                 Kind::Pass,
                 json!({

@@ -257,18 +257,22 @@ impl Report {
                 let balance = if s.judged_by_balance { " (balance)" } else { "" };
                 let why =
                     s.failure.as_ref().or(s.unjudged.as_ref()).map_or(String::new(), |f| format!(" ({f})"));
+                // An unjudged row has no measurements: a dash, not NaN.
+                let number = |x: f64, digits: usize| {
+                    if x.is_nan() { "–".to_string() } else { format!("{x:.digits$}") }
+                };
                 let _ = writeln!(
                     md,
-                    "| {} | {} | {} | {:.4} | {:.4} | {:.2} | {} | {:.2} / {:.2}{balance} | {:.2}{counted}{why} |",
+                    "| {} | {} | {} | {} | {} | {} | {} | {} / {}{balance} | {:.2}{counted}{why} |",
                     s.workload,
                     s.exposes,
                     s.threads,
-                    s.seconds.0,
-                    s.seconds.1,
-                    s.ratio,
+                    number(s.seconds.0, 4),
+                    number(s.seconds.1, 4),
+                    number(s.ratio, 2),
                     rounds.join(", "),
-                    s.imbalance.0,
-                    s.imbalance.1,
+                    number(s.imbalance.0, 2),
+                    number(s.imbalance.1, 2),
                     s.points,
                 );
             }
