@@ -155,9 +155,11 @@ fn image(session: &Session, format: Format, stream: &mut TcpStream) {
         return Response::text(503, &busy).send(stream);
     };
     let answer = match session.encoded(format) {
-        Ok(Some((bytes, spp, generation))) => {
+        Ok(Some(image)) => {
             let content_type = if format == Format::Png { "image/png" } else { "application/octet-stream" };
-            Response::ok(content_type, bytes).with("X-Raypool-Spp", spp).with("X-Raypool-Gen", generation)
+            Response::ok(content_type, image.bytes)
+                .with("X-Raypool-Spp", image.spp)
+                .with("X-Raypool-Gen", image.generation)
         }
         Ok(None) => Response::text(409, "no pass has finished yet: ask again in a moment"),
         Err(e) => Response::text(500, &e),

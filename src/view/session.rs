@@ -106,11 +106,16 @@ pub struct Session {
 }
 
 /// One pass's image, encoded.
-struct Encoded {
-    generation: u64,
-    spp: u32,
-    format: Format,
-    bytes: Arc<[u8]>,
+#[derive(Clone)]
+pub struct Encoded {
+    /// The render it belongs to.
+    pub generation: u64,
+    /// Samples per pixel accumulated.
+    pub spp: u32,
+    /// Its file format.
+    pub format: Format,
+    /// The file's bytes, shared.
+    pub bytes: Arc<[u8]>,
 }
 
 /// The most image answers written at once; more get 503. Each shares the one encoded image,
@@ -222,22 +227,22 @@ impl Session {
         self.latest.lock().clone().filter(|s| s.generation == generation)
     }
 
-    /// The latest finished pass encoded as `format`, its spp and generation: encoded once
+    /// The latest finished pass encoded as `format`: encoded once
     /// per pass and format, the bytes shared by every request. `Ok(None)` before a first pass.
-    pub fn encoded(&self, format: Format) -> Result<Option<(Arc<[u8]>, u32, u64)>, String> {
+    pub fn encoded(&self, format: Format) -> Result<Option<Encoded>, String> {
         let Some(snapshot) = self.latest() else { return Ok(None) };
         // Held while encoding: a second request for the same pass waits and shares the bytes.
         let mut encoded = self.encoded.lock();
         encoded.retain(|e| e.generation == snapshot.generation && e.spp == snapshot.spp);
         if let Some(e) = encoded.iter().find(|e| e.format == format) {
-            return Ok(Some((Arc::clone(&e.bytes), e.spp, e.generation)));
+            return Ok(Some(e.clone()));
         }
         let mut bytes = Vec::new();
         encode(&snapshot.image, format, &mut bytes)?;
-        let bytes: Arc<[u8]> = bytes.into();
-        let (generation, spp) = (snapshot.generation, snapshot.spp);
-        encoded.push(Encoded { generation, spp, format, bytes: Arc::clone(&bytes) });
-        Ok(Some((bytes, spp, generation)))
+        let image =
+            Encoded { generation: snapshot.generation, spp: snapshot.spp, format, bytes: bytes.into() };
+        encoded.push(image.clone());
+        Ok(Some(image))
     }
 
     /// A place to write an image answer, or `None` when [`MAX_IMAGE_READERS`] are being
