@@ -241,15 +241,11 @@ fn a_static_split_never_earns_the_one_band_point_busy_or_not() {
 
 #[test]
 fn the_scheduler_reference_keeps_one_pool_for_every_frame() {
-    within("two frames on the reference to finish", || {
+    within("five frames on the reference to finish", || {
         let reference = OnQueue::new(pool::Discipline::Stealing.queue(), false);
         let frame = test_frame(2);
-        let threads = |tiles: Vec<TileOutput>| -> HashSet<_> {
-            tiles.iter().filter_map(|t| Some(t.timing?.thread)).collect()
-        };
-        let first = threads(reference.render(&frame));
-        let second = threads(reference.render(&frame));
-        assert!(!first.is_empty() && first.len() <= 2, "{first:?}");
-        assert!(second.is_subset(&first), "the second frame ran on new threads: {first:?} then {second:?}");
+        let threads: HashSet<_> =
+            (0..5).flat_map(|_| reference.render(&frame)).filter_map(|t| Some(t.timing?.thread)).collect();
+        assert!(threads.len() <= 2, "five frames on more than one pool's 2 workers: {threads:?}");
     });
 }

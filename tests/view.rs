@@ -424,6 +424,12 @@ fn a_request_that_names_one_setting_changes_only_that_one() {
     let scene = String::from_utf8(viewer.get("/scene.toml").1).unwrap();
     assert!(scene.contains("lookfrom = [300.0, 300.0, -700.0]"), "{scene}");
 
+    // The page's light-sampling control reaches the render, and only it changes.
+    assert_eq!(state(&viewer)["light-sampling"].as_str(), Some("mis"));
+    assert_eq!(viewer.post("/render?light-sampling=bsdf", b"").0, 202);
+    assert_eq!(state(&viewer)["light-sampling"].as_str(), Some("bsdf"));
+    assert_eq!(settings(&state(&viewer)), cornell(256, "steal", 1));
+
     // A height named stays until `height=auto` returns to the scene's aspect (square here).
     assert_eq!(viewer.post("/render?height=20", b"").0, 202);
     assert_eq!(state(&viewer)["height"].as_u64(), Some(20));

@@ -51,7 +51,10 @@ pub fn check_within(make: MakeQueue, deadline: Duration) -> Result<(), String> {
     let within = |what: String, part| within(what, deadline, part);
     for workers in 1..=4 {
         within(
-            format!("a batch of 2,000 jobs on {workers} workers to return"),
+            format!(
+                "a batch of 2,000 jobs on {workers} worker{} to return",
+                if workers == 1 { "" } else { "s" }
+            ),
             Box::new(move || batches_return_in_order(make, workers)),
         )?;
     }

@@ -108,7 +108,7 @@ impl JobQueue for Faulty {
 #[test]
 fn each_broken_queue_fails_the_part_that_checks_what_it_breaks() {
     let cases: [(pool::MakeQueue, &str); 5] = [
-        (|_| Faulty::boxed(Fault::LosesABatchJob), "for a batch of 2,000 jobs on 1 workers to return"),
+        (|_| Faulty::boxed(Fault::LosesABatchJob), "for a batch of 2,000 jobs on 1 worker to return"),
         (|_| Faulty::boxed(Fault::LosesSpawnedJobs), "of 20,000 spawned jobs ran: is a pushed job lost?"),
         (|_| Faulty::boxed(Fault::NeverHelps), "for batches nested in jobs on 1 worker(s) to return"),
         (|_| Faulty::boxed(Fault::QuitsOnClose), "of 1,000 queued jobs ran before drop returned"),

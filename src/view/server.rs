@@ -130,7 +130,7 @@ fn state(session: &Session) -> String {
         "gen": generation, "scene": config.name, "scenes": BUILTINS.iter().map(|b| b.name).collect::<Vec<_>>(),
         "mode": config.mode.name(), "threads": config.threads, "tile": config.tile,
         "rng": if config.rng == RngChoice::Shared { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
-        "width": settings.width, "height": settings.height, "spp": settings.spp,
+        "light-sampling": settings.light_sampling.name(), "width": settings.width, "height": settings.height, "spp": settings.spp,
     })
     .to_string()
 }

@@ -7,6 +7,6 @@ use raypool_course::scheduler::TileQueue;
 #[test]
 fn renders_every_pixel_once_in_parallel_and_matches_serial() {
     for threads in [1, 2, 3, 8] {
-        check(&TileQueue, threads).unwrap_or_else(|e| panic!("on {threads} threads: {e}"));
+        check(&TileQueue, threads).unwrap_or_else(|e| panic!("with frame.threads = {threads}: {e}"));
     }
 }
