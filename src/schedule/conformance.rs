@@ -11,7 +11,7 @@
 //! 4. its image equals the `serial` schedule's, byte for byte.
 //!
 //! Rules 1 and 2 are judged from what the frame itself saw (an
-//! [`Observer`](crate::schedule::observe::Observer) in its hooks), never from what the
+//! [`Observer`] in its hooks), never from what the
 //! scheduler returns: a `timing` it cleared, a copy it rendered twice and returned once, or a
 //! tile it rendered by calling the tracer directly are all seen for what they are.
 //!

@@ -5,7 +5,7 @@
 //! full point, [`ZERO_MARKS_RATIO`] or more none, linearly in between; a workload judged by
 //! balance too (its cost sits in one part of the image) earns at most what the ratio of the
 //! observed load imbalances (submission ÷ reference) earns on the same scale. A row the
-//! machine could not judge ([`judge`](super::judge)) earns nothing. The score is the mean
+//! machine could not judge ([`judge`]) earns nothing. The score is the mean
 //! over workloads at 2 or more threads (on one thread every scheduler renders the same way).
 
 use std::fmt::Write as _;
@@ -101,7 +101,7 @@ impl Score {
     }
 }
 
-/// One machine check, before or after a thread count's rows (see [`judge`](super::judge)).
+/// One machine check, before or after a thread count's rows (see [`judge`]).
 #[derive(Clone, Debug)]
 pub struct MachineCheck {
     /// Threads.
