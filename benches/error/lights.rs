@@ -19,7 +19,7 @@ use raypool::tracer::render::{Adaptive, RenderSettings, default_height};
 use raypool::tracer::sampling::sampler::Sampler;
 
 use super::{
-    CSV_HEADER, PRECISION, Row, Setting, cached_reference, measure_rounds, read_csv, select, time_to_reach,
+    PRECISION, Row, Setting, cached_reference, measure_rounds, read_csv, select, time_to_reach, write_csv,
 };
 
 pub const SCENES: [&str; 2] = ["cornell", "cornell-smoke"];
@@ -94,18 +94,8 @@ pub fn measure(quick: bool, threads: usize, out_dir: &Path, footer: &str) {
             measure_rounds(&mut rows, &at, to_f64(target_error), &[(ADAPTIVE, settings)]);
         }
     }
-    let csv: String = rows
-        .iter()
-        .map(|r| {
-            format!(
-                "{},{},{},{:.4},{:.3},{:.5},{:.6e},{:.6e}\n",
-                r.scene, r.precision, r.method, r.setting, r.mean_spp, r.seconds, r.rmse, r.rel_mse
-            )
-        })
-        .collect();
-    let path = out_dir.join(format!("error-lights-{PRECISION}.csv"));
     // The first line names the run (command, machine, commit, date): the report quotes it.
-    std::fs::write(&path, format!("# {footer}\n{CSV_HEADER}\n{csv}")).expect("the CSV is writable");
+    write_csv(&out_dir.join(format!("error-lights-{PRECISION}.csv")), &format!("# {footer}\n"), &rows);
 }
 
 /// The report's section on the lit scenes, from `error-lights-f32.csv` (empty if it is

@@ -168,6 +168,12 @@ fn measure_sky(config: &Config, threads: usize, out_dir: &Path) -> String {
             measure(&mut rows, to_f64(target_error), &methods);
         }
     }
+    write_csv(&out_dir.join(format!("error-{PRECISION}.csv")), "", &rows);
+    references
+}
+
+/// Writes `rows` as CSV under [`CSV_HEADER`], after `preamble` (lines [`read_csv`] skips).
+fn write_csv(path: &Path, preamble: &str, rows: &[Row]) {
     let csv: String = rows
         .iter()
         .map(|r| {
@@ -177,9 +183,7 @@ fn measure_sky(config: &Config, threads: usize, out_dir: &Path) -> String {
             )
         })
         .collect();
-    let csv_path = out_dir.join(format!("error-{PRECISION}.csv"));
-    std::fs::write(&csv_path, format!("{CSV_HEADER}\n{csv}")).expect("the CSV is writable");
-    references
+    std::fs::write(path, format!("{preamble}{CSV_HEADER}\n{csv}")).expect("the CSV is writable");
 }
 
 /// The footer line (command, machine, commit, date) of an earlier report `text`.

@@ -4,7 +4,7 @@
 use crate::cli::args::GradeArgs;
 use crate::error::Error;
 use crate::measure::grade::report::Verdict;
-use crate::measure::grade::{Entry, Submission, grade_and_report};
+use crate::measure::grade::{Entry, Submission, command_line, grade_and_report};
 
 /// Runs `raypool grade`.
 pub fn run(args: &GradeArgs) -> Result<(), Error> {
@@ -24,8 +24,7 @@ pub fn run(args: &GradeArgs) -> Result<(), Error> {
             return Err(Error::new("raypool grade: name a submission: --mode or --discipline"));
         }
     };
-    let command = std::env::args().collect::<Vec<_>>().join(" ");
-    match grade_and_report(&[&submission], &args.options, &command)? {
+    match grade_and_report(&[&submission], &args.options, &command_line())? {
         Verdict::Passed => Ok(()),
         verdict => Err(Error::with_exit_code(
             match verdict {

@@ -392,6 +392,18 @@ fn grade_catching_panics(submission: &Submission, options: &Options) -> Result<R
     }
 }
 
+/// This process's command line for a report, the program by its file name only (the
+/// folder it was built in is nobody else's).
+pub fn command_line() -> String {
+    let mut args: Vec<String> = std::env::args().collect();
+    if let Some(program) = args.first_mut() {
+        let name =
+            std::path::Path::new(program.as_str()).file_name().map(|n| n.to_string_lossy().into_owned());
+        *program = name.unwrap_or_default();
+    }
+    args.join(" ")
+}
+
 /// The command line of a starter's grade binary (see [`main`]).
 #[derive(clap::Parser, Debug)]
 #[command(about = "Grade this crate's submissions: conformance, then workloads timed against the reference")]
@@ -429,8 +441,7 @@ pub fn main(submissions: &[Submission]) -> std::process::ExitCode {
     let command = GradeCommand::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     let chosen: Vec<&Submission> =
         submissions.iter().filter(|s| command.part.as_ref().is_none_or(|p| *p == s.name)).collect();
-    let line = std::env::args().collect::<Vec<_>>().join(" ");
-    match grade_and_report(&chosen, &command.options, &line) {
+    match grade_and_report(&chosen, &command.options, &command_line()) {
         Ok(verdict) => std::process::ExitCode::from(verdict.exit_code()),
         Err(e) => {
             eprintln!("grade: error: {e}");
