@@ -1,6 +1,7 @@
 //! `cargo bench --bench view_hostile`: the viewer under hostile traffic for 60 s (`-- --quick`: 15 s; loopback only),
-//! then the worst cancels. Writes `results/view-hostile.md`: requests sent by kind, answers by
-//! status, the `/state` probes, peak threads and memory, and each cancel's `POST` → 202 time.
+//! then the worst cancels, then 256 slow image readers of a 2048 × 2048 image. Writes
+//! `results/view-hostile.md`: requests sent by kind, answers by status, the `/state` probes,
+//! peak threads and memory, each cancel's `POST` → 202 time, and the slow readers' memory.
 //! `tests/view.rs` runs the same traffic for 20 s and asserts on it.
 
 #[path = "../tests/common/mod.rs"]
@@ -67,6 +68,23 @@ fn main() {
     }
     let slowest = report.cancels.iter().map(|(_, t)| *t).max().unwrap_or_default();
     let _ = writeln!(md, "\nSlowest cancel: **{:.1} ms**.", slowest.as_secs_f64() * 1e3);
+    drop(viewer);
+    let _ = writeln!(md, "\n## 256 slow image readers at 2048 × 2048\n");
+    let large =
+        Viewer::start(&["--scene", "three-spheres", "--width", "2048", "--height", "2048", "--spp", "1"]);
+    common::viewer::until_done(&mut large.events(), 1);
+    let seen = hostile::slow_image_readers(&large, 256, Duration::from_secs(8));
+    let answers: Vec<String> = seen.answers.iter().map(|(status, n)| format!("{status} × {n}")).collect();
+    let _ = writeln!(
+        md,
+        "`raypool view --scene three-spheres --width 2048 --height 2048 --spp 1`, its first pass done; 256 connections \
+         each ask for `/image.pfm` (48 MiB) and read nothing for 8 s. Each pass is encoded once and shared; at most 32 \
+         image answers are written at once, the rest get 503 (`results/view-slow-readers.md` has the viewer before that: \
+         3,310 MiB).\n\n| resident before | peak resident | answers |\n|---:|---:|---|\n| {} MiB | {} MiB | {} |",
+        seen.before_kib >> 10,
+        seen.peak_kib >> 10,
+        answers.join(", ")
+    );
     std::fs::write(results_dir().join("view-hostile.md"), &md).expect("the output directory is writable");
     println!("{md}");
 }

@@ -444,15 +444,6 @@ fn a_request_that_names_one_setting_changes_only_that_one() {
     assert_eq!(settings(&state(&viewer)), cornell(256, "steal", 1));
 }
 
-/// The viewer's resident memory, KiB (Linux).
-fn resident_kib(viewer: &Viewer) -> u64 {
-    let status = std::fs::read_to_string(format!("/proc/{}/status", viewer.child.id())).unwrap_or_default();
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmRSS:")?.split_whitespace().next()?.parse().ok())
-        .unwrap_or(0)
-}
-
 #[test]
 fn slow_image_readers_share_one_encoded_image_and_the_surplus_gets_503() {
     // 2048 x 2048: a PFM of 48 MiB, far more than a socket's buffers, so a reader that does
@@ -460,32 +451,12 @@ fn slow_image_readers_share_one_encoded_image_and_the_surplus_gets_503() {
     let viewer =
         Viewer::start(&["--scene", "three-spheres", "--width", "2048", "--height", "2048", "--spp", "1"]);
     until_done(&mut viewer.events(), 1);
-    let address = viewer.url.trim_start_matches("http://").trim_end_matches('/').to_string();
-    let before = resident_kib(&viewer);
-    let request = format!("GET /image.pfm HTTP/1.1\r\nHost: {address}\r\n\r\n");
-    let slow: Vec<TcpStream> = (0..40)
-        .map(|_| {
-            let mut stream = TcpStream::connect(&address).unwrap();
-            stream.write_all(request.as_bytes()).unwrap();
-            stream
-        })
-        .collect();
+    let seen = common::hostile::slow_image_readers(&viewer, 40, Duration::from_secs(2));
     // The first 32 are being answered (and stall); the other 8 were told 503 at once.
-    let deadline = Instant::now() + MINUTE;
-    let mut refused = 0;
-    for stream in &slow {
-        stream.set_read_timeout(Some(Duration::from_secs(2))).unwrap();
-        let mut head = [0u8; 12];
-        if std::io::Read::read_exact(&mut &*stream, &mut head).is_ok() && head.ends_with(b"503") {
-            refused += 1;
-        }
-        assert!(Instant::now() < deadline, "the answers' first bytes never came");
-    }
-    assert_eq!(refused, 8, "the readers past the 32 being answered are refused");
-    let during = resident_kib(&viewer);
+    assert_eq!(seen.answers.get("503"), Some(&8), "the readers past the 32 being answered: {seen:?}");
+    assert_eq!(seen.answers.get("200"), Some(&32), "{seen:?}");
     // One encoded image (48 MiB) for all 32, not one each (1.5 GiB).
-    assert!(during < before + 160 * 1024, "resident memory went from {before} KiB to {during} KiB");
-    drop(slow);
+    assert!(seen.peak_kib < seen.before_kib + 160 * 1024, "resident memory: {seen:?}");
     // Once they are gone, images are served again.
     let start = Instant::now();
     while viewer.get("/image.png").0 != 200 {

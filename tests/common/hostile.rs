@@ -278,3 +278,42 @@ fn worst_cancels(viewer: &Viewer) -> Vec<(String, Duration)> {
     }
     cancels
 }
+
+/// What [`slow_image_readers`] saw.
+#[derive(Debug, Default)]
+pub struct SlowReaders {
+    /// The viewer's resident memory before the readers came, KiB.
+    pub before_kib: u64,
+    /// Its peak resident memory while they held their answers (`VmHWM`), KiB.
+    pub peak_kib: u64,
+    /// The first line's status each reader got ("none" if nothing came within a second).
+    pub answers: BTreeMap<String, usize>,
+}
+
+/// `readers` connections that each ask for `/image.pfm` and then read nothing for `hold`,
+/// against a viewer whose first pass has finished; then each reads its status line.
+pub fn slow_image_readers(viewer: &Viewer, readers: usize, hold: Duration) -> SlowReaders {
+    let (address, pid) = (address(viewer), viewer.child.id());
+    let before_kib = status_field(pid, "VmRSS");
+    let request = format!("GET /image.pfm HTTP/1.1\r\nHost: {address}\r\n\r\n");
+    let streams: Vec<TcpStream> = (0..readers)
+        .filter_map(|_| {
+            let mut stream = TcpStream::connect(&address).ok()?;
+            stream.write_all(request.as_bytes()).ok()?;
+            Some(stream)
+        })
+        .collect();
+    std::thread::sleep(hold);
+    let peak_kib = status_field(pid, "VmHWM");
+    let mut answers = BTreeMap::new();
+    for mut stream in streams {
+        let _ = stream.set_read_timeout(Some(Duration::from_secs(1)));
+        let mut head = [0u8; 12];
+        let status = match stream.read_exact(&mut head) {
+            Ok(()) => String::from_utf8_lossy(&head[9..]).into_owned(),
+            Err(_) => "none".into(),
+        };
+        *answers.entry(status).or_default() += 1;
+    }
+    SlowReaders { before_kib, peak_kib, answers }
+}
