@@ -6,13 +6,14 @@
 //! value depends only on the scene, the settings and its own random streams (see
 //! `sampling/`), the image is bit-identical whatever the schedule.
 
+use std::sync::Arc;
 use std::thread::ThreadId;
 use std::time::Duration;
 
 use glam::DVec3;
 
 use crate::error::Error;
-use crate::tracer::camera::Camera;
+use crate::tracer::camera::{Camera, CameraSettings};
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::{
     LightSampling, SHADOW_KEY, lobe_pdf, mixture_bounce, next_event, power_heuristic,
@@ -152,8 +153,9 @@ pub struct TileTiming {
 /// Everything a tile needs, immutable for the whole render (shareable between threads).
 #[derive(Clone, Debug)]
 pub struct RenderJob {
-    /// The scene.
-    pub scene: Scene,
+    /// The scene, shared by the jobs that see it from other cameras or at other sizes (its
+    /// own `camera` is the one [`RenderJob::new`] used, not necessarily this job's).
+    pub scene: Arc<Scene>,
     /// The camera, set up for `settings`' image size.
     pub camera: Camera,
     /// Size and sampling.
@@ -164,7 +166,14 @@ impl RenderJob {
     /// Prepares a render of `scene` with `settings`.
     pub fn new(scene: Scene, settings: RenderSettings) -> RenderJob {
         let camera = Camera::new(&scene.camera, settings.width, settings.height);
-        RenderJob { scene, camera, settings }
+        RenderJob { scene: Arc::new(scene), camera, settings }
+    }
+
+    /// The same scene, shared, not rebuilt, seen by `camera` with `settings`: how the viewer
+    /// moves the camera or renders a smaller frame without building the scene's tree again.
+    pub fn with_camera(&self, camera: &CameraSettings, settings: RenderSettings) -> RenderJob {
+        let scene = Arc::clone(&self.scene);
+        RenderJob { scene, camera: Camera::new(camera, settings.width, settings.height), settings }
     }
 }
 
