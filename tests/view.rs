@@ -153,9 +153,10 @@ fn bad_requests_get_4xx_and_one_line_and_the_server_goes_on() {
     half.write_all(b"POST /render?width=40 HTTP/1.1\r\nContent-Length: 100\r\n\r\nabc").unwrap();
     drop(half);
     let mut stream = TcpStream::connect(&address).unwrap();
+    stream.set_read_timeout(Some(MINUTE)).unwrap(); // an answer that never comes fails, not hangs
     stream.write_all(format!("GET /events HTTP/1.1\r\nHost: {address}\r\n\r\n").as_bytes()).unwrap();
     let mut first = String::new();
-    BufReader::new(&stream).read_line(&mut first).unwrap();
+    BufReader::new(&stream).read_line(&mut first).expect("the event stream's status line within a minute");
     assert!(first.starts_with("HTTP/1.1 200"), "{first}");
     drop(stream);
     assert_eq!(viewer.post("/render?width=40&spp=2", b"").0, 202);

@@ -133,6 +133,7 @@ fn bad_request(address: &str, k: usize, rng: &mut Rng) -> String {
         9 => exchange(address, b"GET /state HTTP/1.1\r\nHost: evil.example\r\n\r\n", false),
         10 => {
             let Ok(mut stream) = TcpStream::connect(address) else { return "refused".into() };
+            let _ = stream.set_read_timeout(Some(Duration::from_secs(15)));
             let _ = stream.write_all(format!("GET /events HTTP/1.1\r\n{host}\r\n").as_bytes());
             let mut first = String::new();
             let _ = BufReader::new(&stream).read_line(&mut first);
