@@ -12,7 +12,9 @@
 //! and deadlines, [`server`] answers them to the page's own origin only, and `page.html` is
 //! the page.
 
+pub mod events;
 pub mod http;
+pub mod preview;
 pub mod request;
 pub mod server;
 pub mod session;
@@ -36,7 +38,7 @@ pub const MAX_CONNECTIONS: usize = 256;
 /// Runs `raypool view` until Ctrl-C (or SIGTERM): prints the address as the first line of
 /// stdout, renders the command line's scene, and serves the page.
 pub fn run(args: ViewArgs) -> Result<(), Error> {
-    let config = request::config(&args, None, None)?;
+    let config = request::config(&args, None, None, None)?;
     let ip = args.bind.unwrap_or(IpAddr::V4(Ipv4Addr::LOCALHOST));
     let listener = TcpListener::bind((ip, args.port))
         .map_err(|e| Error::new(format!("cannot serve on {ip} port {}: {e}", args.port)))?;

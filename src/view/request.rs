@@ -5,11 +5,15 @@
 //! same clap definition as `raypool view`'s own flags, *on top of the flags in effect*, so a
 //! request changes only what it names (`threads=1` keeps the scene, camera, mode and spp)
 //! and gets the command line's limits (sizes ≤ 16384, threads ≤ 4096, …) and its one-line
-//! messages. Two parameters are the page's own: `lookfrom=x,y,z` (the orbiting camera) and a
+//! messages. Three parameters are the page's own: `lookfrom=x,y,z` (the orbiting camera),
+//! `preview=1` (the camera is moving: show a small frame first, see `session.rs`) and a
 //! pasted scene in the body. A request that names neither `scene` nor a pasted scene keeps
-//! the current scene, camera included; `height=auto` returns to the scene's aspect.
+//! the current scene, camera included, and its built world (a camera move rebuilds no tree);
+//! `height=auto` returns to the scene's aspect.
 //! Parameters that would reach outside the page are refused: `scene-file` (a path on the
 //! server), `port`, `bind`, and adaptive sampling, which progressive passes do not do.
+
+use std::sync::Arc;
 
 use clap::{CommandFactory as _, FromArgMatches as _};
 
@@ -18,7 +22,9 @@ use crate::cli::settings::{load_scene, render_job, render_settings, scene_name, 
 use crate::error::Error;
 use crate::measure::machine::cpus;
 use crate::scenes::format::SceneFile;
-use crate::view::session::Config;
+use crate::schedule::modes::Schedule;
+use crate::schedule::random::RngChoice;
+use crate::tracer::render::RenderJob;
 
 /// Largest pasted scene, bytes.
 pub const MAX_PASTED_SCENE: usize = 1 << 20;
@@ -45,6 +51,30 @@ struct ViewRequest {
     args: ViewArgs,
 }
 
+/// Everything one render needs, checked: what a request or the command line asked for.
+#[derive(Clone, Debug)]
+pub struct Config {
+    /// The scene's name (a built-in's, "pasted", or the file's path).
+    pub name: String,
+    /// The scene as data, camera included (served as `/scene.toml`).
+    pub scene: SceneFile,
+    /// Image size and sampling; `spp` is what the passes accumulate up to.
+    pub job: Arc<RenderJob>,
+    /// Worker threads.
+    pub threads: usize,
+    /// Scheduler.
+    pub mode: Schedule,
+    /// Tile side, pixels.
+    pub tile: u32,
+    /// Per-sample streams, or one generator behind a lock for all threads.
+    pub rng: RngChoice,
+    /// The flags in effect (the command line's, as later requests changed them): a request
+    /// changes only what it names.
+    pub args: ViewArgs,
+    /// The camera is moving: show a navigation frame first (see [`crate::view::preview`]).
+    pub preview: bool,
+}
+
 /// Flags a request may not carry, with the reason.
 const REFUSED: &[(&str, &str)] = &[
     ("scene-file", "the page cannot read files on the server: paste the scene instead"),
@@ -62,20 +92,18 @@ const REFUSED: &[(&str, &str)] = &[
 pub fn parse(query: &str, body: &str, current: &Config) -> Result<Config, Error> {
     let mut argv = vec!["view".to_string()];
     let (mut lookfrom, mut roulette, mut names_scene, mut auto_height) = (None, None, false, false);
+    let mut preview = false;
     for (name, value) in form_urlencoded::parse(query.as_bytes()) {
         if let Some((_, why)) = REFUSED.iter().find(|(refused, _)| *refused == name) {
             return Err(Error::new(format!("'{name}' cannot be set by a request: {why}")));
         }
         match name.as_ref() {
             "lookfrom" => lookfrom = Some(point(&value)?),
+            "preview" => preview = on_or_off(name.as_ref(), &value)?,
             // The height in effect stays unless named: `auto` names the scene's aspect again.
             "height" if value == "auto" => auto_height = true,
             // A flag's absence cannot switch it off on top of the flags in effect: say it.
-            "roulette" => match value.as_ref() {
-                "true" | "1" | "on" => roulette = Some(true),
-                "false" | "0" | "off" => roulette = Some(false),
-                other => return Err(Error::new(format!("roulette must be true or false, not '{other}'"))),
-            },
+            "roulette" => roulette = Some(on_or_off(name.as_ref(), &value)?),
             _ => {
                 names_scene |= name == "scene" || name == "scene-seed";
                 argv.extend([format!("--{name}"), value.into_owned()]);
@@ -103,15 +131,27 @@ pub fn parse(query: &str, body: &str, current: &Config) -> Result<Config, Error>
     } else {
         Some((current.name.clone(), current.scene.clone()))
     };
-    config(&args, scene, lookfrom)
+    let config = config(&args, scene, lookfrom, Some(current))?;
+    Ok(Config { preview, ..config })
+}
+
+/// A yes-or-no parameter's value.
+fn on_or_off(name: &str, value: &str) -> Result<bool, Error> {
+    match value {
+        "true" | "1" | "on" => Ok(true),
+        "false" | "0" | "off" => Ok(false),
+        other => Err(Error::new(format!("{name} must be true or false, not '{other}'"))),
+    }
 }
 
 /// The render `args` ask for, of `scene` (named) or else the scene the flags name, seen from
-/// `lookfrom` if given.
+/// `lookfrom` if given; `current`'s world is shared when only the camera or the image
+/// settings differ.
 pub fn config(
     args: &ViewArgs,
     scene: Option<(String, SceneFile)>,
     lookfrom: Option<[f64; 3]>,
+    current: Option<&Config>,
 ) -> Result<Config, Error> {
     let image = &args.image;
     let (name, mut scene) = match scene {
@@ -147,9 +187,14 @@ pub fn config(
     if image.tile > MAX_TILE {
         return Err(Error::new(format!("--tile {} is wider than the viewer's {MAX_TILE}", image.tile)));
     }
+    let job = match current.filter(|c| same_world(c, args, &scene)) {
+        Some(c) => c.job.with_camera(&scene.camera, settings),
+        None => render_job(image, &scene, settings),
+    };
     Ok(Config {
         name,
-        job: render_job(image, &scene, settings).into(),
+        job: job.into(),
+        preview: false,
         scene,
         threads,
         mode: args.workers.mode,
@@ -157,6 +202,13 @@ pub fn config(
         rng: args.workers.rng,
         args: args.clone(),
     })
+}
+
+/// Whether `current`'s built world is the one `scene` and `args` would build: the same scene
+/// but for its camera, and the same `--accel`.
+fn same_world(current: &Config, args: &ViewArgs, scene: &SceneFile) -> bool {
+    current.args.image.accel == args.image.accel
+        && SceneFile { camera: scene.camera.clone(), ..current.scene.clone() } == *scene
 }
 
 /// Puts the eye at `eye`, keeping what it looks at and the focus at the same relative depth.

@@ -8,6 +8,7 @@
 //! | `GET /events` | server-sent events: `start`, then a `tile` per finished tile, a `pass` per pass, `done` |
 //! | `POST /render?flag=value…` | cancels the running render and starts this one (body: a pasted TOML scene, optional); 202 |
 //! | `GET /image.pfm`, `/image.png` | the image after the latest finished pass, encoded once per pass for every reader (at most 32 at once, then 503); header `X-Raypool-Spp` says how many samples |
+//! | `GET /preview.rgba` | the running render's navigation frame (a `POST /render` with `preview=1`): 8-bit RGBA, its size in `X-Raypool-Width` and `X-Raypool-Height` (counted among the 32 image answers) |
 //! | `GET /scene.toml` | the running render's scene, camera included |
 //!
 //! Every connection is answered on its own short thread (an event stream lives as long as its
@@ -109,12 +110,15 @@ pub fn handle(session: &Arc<Session>, origins: &Origins, mut stream: TcpStream) 
         ("POST", "/render") => render(session, &request),
         ("GET", "/image.pfm") => return image(session, Format::Pfm, &mut stream),
         ("GET", "/image.png") => return image(session, Format::Png, &mut stream),
+        ("GET", "/preview.rgba") => return preview(session, &mut stream),
         ("GET", "/scene.toml") => {
             Ok(Response::ok("text/plain; charset=utf-8", session.current().1.scene.to_toml().into_bytes()))
         }
-        (method, "/" | "/state" | "/events" | "/render" | "/image.pfm" | "/image.png" | "/scene.toml") => {
-            Err((405, format!("{method} is not allowed on {path}")))
-        }
+        (
+            method,
+            "/" | "/state" | "/events" | "/render" | "/image.pfm" | "/image.png" | "/preview.rgba"
+            | "/scene.toml",
+        ) => Err((405, format!("{method} is not allowed on {path}"))),
         _ => Err((404, format!("no such page: {path}"))),
     };
     answer.unwrap_or_else(|(status, reason)| Response::text(status, &reason)).send(&mut stream);
@@ -147,14 +151,19 @@ fn render(session: &Arc<Session>, request: &Request) -> Answer {
     })
 }
 
-/// `GET /image.*`: the latest finished pass, encoded once per pass and shared; at most
-/// [`MAX_IMAGE_READERS`] answers written at once (503 past that).
-fn image(session: &Session, format: Format, stream: &mut TcpStream) {
+/// Writes an image answer, `answer()`, if one of the [`MAX_IMAGE_READERS`] places is free;
+/// 503 if not.
+fn send_image(session: &Session, stream: &mut TcpStream, answer: impl FnOnce() -> Response) {
     let Some(_slot) = session.image_slot() else {
         let busy = format!("{MAX_IMAGE_READERS} images are being sent: try again in a moment");
         return Response::text(503, &busy).send(stream);
     };
-    let answer = match session.encoded(format) {
+    answer().send(stream);
+}
+
+/// `GET /image.*`: the latest finished pass, encoded once per pass and shared.
+fn image(session: &Session, format: Format, stream: &mut TcpStream) {
+    send_image(session, stream, || match session.encoded(format) {
         Ok(Some(image)) => {
             let content_type = if format == Format::Png { "image/png" } else { "application/octet-stream" };
             Response::ok(content_type, image.bytes)
@@ -163,8 +172,19 @@ fn image(session: &Session, format: Format, stream: &mut TcpStream) {
         }
         Ok(None) => Response::text(409, "no pass has finished yet: ask again in a moment"),
         Err(e) => Response::text(500, &e),
-    };
-    answer.send(stream);
+    });
+}
+
+/// `GET /preview.rgba`: the running render's navigation frame, shared bytes; 409 when it
+/// has none (it was not asked for, or is not finished).
+fn preview(session: &Session, stream: &mut TcpStream) {
+    send_image(session, stream, || match session.preview() {
+        Some(p) => Response::ok("application/octet-stream", Arc::clone(&p.rgba))
+            .with("X-Raypool-Width", p.width)
+            .with("X-Raypool-Height", p.height)
+            .with("X-Raypool-Gen", p.generation),
+        None => Response::text(409, "the running render has no navigation frame (yet)"),
+    });
 }
 
 /// `GET /events`: server-sent events until the page goes or the server stops. A page that

@@ -19,21 +19,21 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::thread::{JoinHandle, ThreadId};
 use std::time::Instant;
 
-use base64::Engine as _;
 use crossbeam_channel::{Receiver, Sender};
 use parking_lot::Mutex;
 use serde_json::json;
 
-use crate::cli::args::ViewArgs;
 use crate::files::image::Image;
 use crate::files::output::{Format, encode};
-use crate::scenes::format::SceneFile;
 use crate::schedule::frame::Frame;
 use crate::schedule::kept::KeptPool;
-use crate::schedule::modes::{Schedule, render};
+use crate::schedule::modes::render;
 use crate::schedule::progressive::{Cancel, Pass, Sums};
-use crate::schedule::random::{RngChoice, RngSource};
-use crate::tracer::render::{RenderJob, TileOutput};
+use crate::schedule::random::RngSource;
+use crate::tracer::render::TileOutput;
+use crate::view::events::{frame_event, preview_event, start_event, tile_event};
+use crate::view::preview::{Preview, StartResolution, camera_rested, render_preview};
+use crate::view::request::Config;
 
 /// Events a page may fall behind by before it is dropped.
 const QUEUE: usize = 8192;
@@ -45,28 +45,6 @@ const QUEUE: usize = 8192;
 /// viewer's tiles are at most [`MAX_TILE`](crate::view::request::MAX_TILE) wide and its rows
 /// at most 4,096 pixels: one sample per pixel at most fits).
 const MAX_JOB_SAMPLES: u32 = 16 * 16 * 16;
-
-/// Everything one render needs, checked: what a request or the command line asked for.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// The scene's name (a built-in's, "pasted", or the file's path).
-    pub name: String,
-    /// The scene as data, camera included (served as `/scene.toml`).
-    pub scene: SceneFile,
-    /// Image size and sampling; `spp` is what the passes accumulate up to.
-    pub job: Arc<RenderJob>,
-    /// Worker threads.
-    pub threads: usize,
-    /// Scheduler.
-    pub mode: Schedule,
-    /// Tile side, pixels.
-    pub tile: u32,
-    /// Per-sample streams, or one generator behind a lock for all threads.
-    pub rng: RngChoice,
-    /// The flags in effect (the command line's, as later requests changed them): a request
-    /// changes only what it names.
-    pub args: ViewArgs,
-}
 
 /// The latest finished pass.
 #[derive(Clone, Debug)]
@@ -100,6 +78,9 @@ pub struct Session {
     /// The latest pass as a `frame` event for pages that join late, built once, outside the
     /// pages' lock (a 2048 × 2048 frame is 16 MB of base64).
     frame: Mutex<Option<(u64, u32, Arc<str>)>>,
+    /// The latest navigation frame, and the size the next one starts at.
+    preview: Mutex<Option<Arc<Preview>>>,
+    start_resolution: Mutex<StartResolution>,
     /// Image answers being written now (see [`Session::image_slot`]).
     image_readers: AtomicUsize,
     pages: Mutex<Pages>,
@@ -151,6 +132,7 @@ struct Pages {
 enum Kind {
     Start,
     Tile { pass: u32 },
+    Preview,
     Pass,
     Done,
 }
@@ -170,6 +152,8 @@ impl Session {
             latest: Mutex::new(None),
             encoded: Mutex::new(Vec::new()),
             frame: Mutex::new(None),
+            preview: Mutex::new(None),
+            start_resolution: Mutex::default(),
             image_readers: AtomicUsize::new(0),
             pages: Mutex::new(Pages::default()),
         });
@@ -263,7 +247,7 @@ impl Session {
                 Arc::clone(event)
             }
             _ => {
-                let event: Arc<str> = frame_event(snapshot).into();
+                let event: Arc<str> = frame_event(snapshot.generation, snapshot.spp, &snapshot.image).into();
                 *frame = Some((snapshot.generation, snapshot.spp, Arc::clone(&event)));
                 event
             }
@@ -309,15 +293,39 @@ impl Session {
                 }
                 pages.tiles.push(Arc::clone(&event));
             }
+            Kind::Preview => {} // a late page is shown the latest pass instead
             Kind::Pass => pages.last_pass = Some(Arc::clone(&event)),
             Kind::Done => pages.done = Some(Arc::clone(&event)),
         }
         pages.senders.retain(|page| page.try_send(Arc::clone(&event)).is_ok());
     }
 
+    /// The running render's latest navigation frame, if it has one.
+    pub fn preview(&self) -> Option<Arc<Preview>> {
+        let generation = self.current.lock().generation;
+        self.preview.lock().clone().filter(|p| p.generation == generation)
+    }
+
+    /// Renders and announces a navigation frame at the learnt start resolution; `false` if
+    /// the render was cancelled meanwhile.
+    fn navigate(&self, generation: u64, config: &Config, cancel: &Cancel) -> bool {
+        let divisor = self.start_resolution.lock().divisor();
+        let Some(preview) = render_preview(generation, config, divisor, &self.pool, cancel) else {
+            return false;
+        };
+        self.start_resolution.lock().record(divisor, preview.took);
+        let event = preview_event(&preview);
+        *self.preview.lock() = Some(Arc::new(preview));
+        self.broadcast(Kind::Preview, event);
+        true
+    }
+
     /// The render thread: passes until `spp` samples or a cancel.
     fn render_passes(self: &Arc<Session>, generation: u64, config: &Config, cancel: &Cancel) {
         self.broadcast(Kind::Start, start_event(generation, config));
+        if config.preview && !(self.navigate(generation, config, cancel) && camera_rested(cancel)) {
+            return;
+        }
         let settings = config.job.settings;
         let sums = Sums::default();
         let rng = RngSource::new(&settings, config.rng);
@@ -371,56 +379,4 @@ impl Session {
             self.broadcast(Kind::Done, json!({ "type": "done", "gen": generation, "spp": done }).to_string());
         }
     }
-}
-
-/// The event that opens a render: its size, settings and camera (the page orbits from it).
-fn start_event(generation: u64, config: &Config) -> String {
-    let settings = &config.job.settings;
-    json!({
-        "type": "start", "gen": generation, "scene": config.name, "width": settings.width,
-        "height": settings.height, "spp": settings.spp, "threads": config.threads,
-        "mode": config.mode.name(), "tile": config.tile,
-        "rng": if config.rng == RngChoice::Shared { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
-        "lookfrom": config.scene.camera.lookfrom, "lookat": config.scene.camera.lookat,
-    })
-    .to_string()
-}
-
-/// The whole image of a finished pass, for a page that joins late.
-fn frame_event(snapshot: &Snapshot) -> String {
-    let image = &snapshot.image;
-    json!({
-        "type": "frame", "gen": snapshot.generation, "spp": snapshot.spp, "width": image.width,
-        "height": image.height, "rgb": base64::engine::general_purpose::STANDARD.encode(image.to_rgb8()),
-    })
-    .to_string()
-}
-
-/// A finished tile: where, which worker (lanes are numbered in the order workers first
-/// finish a tile of this pass), when (seconds since the pass began), and its pixels as
-/// 8-bit RGB after `spp` samples, base64. `None` for a tile that was not rendered.
-fn tile_event(
-    generation: u64,
-    pass: u32,
-    spp: u32,
-    out: &TileOutput,
-    lanes: &Mutex<Vec<ThreadId>>,
-) -> Option<String> {
-    let timing = out.timing?;
-    let worker = {
-        let mut lanes = lanes.lock();
-        lanes.iter().position(|&t| t == timing.thread).unwrap_or_else(|| {
-            lanes.push(timing.thread);
-            lanes.len() - 1
-        })
-    };
-    let t = out.tile;
-    let rgb = Image { width: t.width, height: t.height, pixels: out.pixels.clone() }.to_rgb8();
-    json!({
-        "type": "tile", "gen": generation, "pass": pass, "spp": spp, "x": t.x, "y": t.y, "w": t.width,
-        "h": t.height, "worker": worker, "start": timing.start.as_secs_f64(), "end": timing.end.as_secs_f64(),
-        "rgb": base64::engine::general_purpose::STANDARD.encode(rgb),
-    })
-    .to_string()
-    .into()
 }

@@ -24,6 +24,9 @@ use tungstenite::{Message, WebSocket};
 #[path = "../deadline/mod.rs"]
 mod deadline;
 
+/// How long Chromium may take to start and open its DevTools port.
+const STARTUP: Duration = Duration::from_secs(60);
+
 /// The Chromium binary, if one is installed.
 pub fn chromium() -> Option<PathBuf> {
     ["chromium", "chromium-browser", "google-chrome"].iter().find_map(|name| {
@@ -68,14 +71,22 @@ impl Browser {
             .stderr(Stdio::piped())
             .spawn()
             .expect("chromium starts");
-        // Chromium prints its DevTools address on stderr; keep draining it afterwards.
-        let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-        let address = lines
-            .by_ref()
-            .map_while(Result::ok)
-            .find_map(|line| line.split_once("DevTools listening on ").map(|(_, a)| a.trim().to_string()))
-            .expect("chromium prints its DevTools address");
-        std::thread::spawn(move || lines.for_each(drop));
+        // Chromium prints its DevTools address on stderr (read on a thread that keeps draining
+        // it afterwards); a Chromium that never does is killed after a minute.
+        let stderr = BufReader::new(child.stderr.take().unwrap());
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in stderr.lines().map_while(Result::ok) {
+                if let Some((_, address)) = line.split_once("DevTools listening on ") {
+                    let _ = tx.send(address.trim().to_string());
+                }
+            }
+        });
+        let Ok(address) = rx.recv_timeout(STARTUP) else {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("Chromium never printed its DevTools address within {STARTUP:?}");
+        };
         let (socket, _) = tungstenite::connect(address.as_str()).expect("DevTools WebSocket connects");
         if let MaybeTlsStream::Plain(stream) = socket.get_ref() {
             stream.set_read_timeout(Some(Duration::from_secs(60))).unwrap();
@@ -138,14 +149,20 @@ impl Browser {
 
     /// Drags the mouse with the left button from `from` to `to` (page pixels), in `steps` moves.
     pub fn drag(&mut self, from: (f64, f64), to: (f64, f64), steps: u32) {
-        let mouse = |kind: &str, (x, y): (f64, f64), buttons: u32| json!({ "type": kind, "x": x, "y": y, "button": "left", "buttons": buttons, "clickCount": 1 });
-        self.call("Input.dispatchMouseEvent", mouse("mousePressed", from, 1), true);
+        self.mouse("mousePressed", from, 1);
         for k in 1..=steps {
             let t = f64::from(k) / f64::from(steps);
-            let at = (from.0 + (to.0 - from.0) * t, from.1 + (to.1 - from.1) * t);
-            self.call("Input.dispatchMouseEvent", mouse("mouseMoved", at, 1), true);
+            self.mouse("mouseMoved", (from.0 + (to.0 - from.0) * t, from.1 + (to.1 - from.1) * t), 1);
         }
-        self.call("Input.dispatchMouseEvent", mouse("mouseReleased", to, 0), true);
+        self.mouse("mouseReleased", to, 0);
+    }
+
+    /// One mouse event of the left button (`mousePressed`, `mouseMoved`, `mouseReleased`) at
+    /// `(x, y)` page pixels, with `buttons` held (1: the left one).
+    pub fn mouse(&mut self, kind: &str, (x, y): (f64, f64), buttons: u32) {
+        let event =
+            json!({ "type": kind, "x": x, "y": y, "button": "left", "buttons": buttons, "clickCount": 1 });
+        self.call("Input.dispatchMouseEvent", event, true);
     }
 
     /// Turns the mouse wheel by `delta_y` pixels at `at` (positive: towards the user).
@@ -156,8 +173,18 @@ impl Browser {
 
     /// The page as it is on screen, PNG.
     pub fn screenshot(&mut self) -> Vec<u8> {
+        self.capture(json!({ "format": "png" }))
+    }
+
+    /// The rectangle `[x, y, width, height]` (page pixels) of the page as it is on screen, PNG.
+    pub fn screenshot_of(&mut self, [x, y, width, height]: [f64; 4]) -> Vec<u8> {
+        let clip = json!({ "x": x, "y": y, "width": width, "height": height, "scale": 1 });
+        self.capture(json!({ "format": "png", "clip": clip }))
+    }
+
+    fn capture(&mut self, params: Value) -> Vec<u8> {
         use base64::Engine as _;
-        let shot = self.call("Page.captureScreenshot", json!({ "format": "png" }), true);
+        let shot = self.call("Page.captureScreenshot", params, true);
         base64::engine::general_purpose::STANDARD.decode(shot["data"].as_str().unwrap()).unwrap()
     }
 }

@@ -1,0 +1,109 @@
+//! Navigation frames (`POST /render` with `preview=1`, the request a camera drag sends): a
+//! small 1-sample frame comes first, its pixels served as RGBA by `/preview.rgba` and equal to
+//! `raypool render`'s at that size; then the full-size render follows, still the command
+//! line's image byte for byte. The start resolution stays within its bounds.
+
+mod common;
+mod deadline;
+
+use std::process::Command;
+use std::time::Duration;
+
+use common::viewer::{Viewer, until_done};
+use deadline::output_within;
+use raypool::view::preview::{MAX_DIVISOR, StartResolution};
+use serde_json::Value;
+
+/// `raypool render` of the viewer's current scene with `flags`, written as `file` (its format
+/// from its extension); the file's bytes.
+fn cli_render(viewer: &Viewer, flags: &[&str], file: &str) -> Vec<u8> {
+    let dir = std::env::temp_dir().join(format!("raypool-view-nav-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (scene_path, image_path) = (dir.join("scene.toml"), dir.join(file));
+    std::fs::write(&scene_path, viewer.get("/scene.toml").1).unwrap();
+    let scene_flag =
+        ["render", "--scene-file", scene_path.to_str().unwrap(), "--out", image_path.to_str().unwrap()];
+    let out = output_within(
+        Command::new(env!("CARGO_BIN_EXE_raypool")).args(scene_flag).args(flags),
+        "`raypool render` of the viewer's scene to exit",
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    std::fs::read(image_path).unwrap()
+}
+
+#[test]
+fn a_moving_camera_gets_a_small_frame_first_then_the_command_lines_image() {
+    for scene in ["final", "cornell"] {
+        let viewer = Viewer::start(&[
+            "--scene",
+            scene,
+            "--width",
+            "96",
+            "--spp",
+            "4",
+            "--threads",
+            "2",
+            "--tile",
+            "8",
+            "--sampler",
+            "sobol",
+        ]);
+        until_done(&mut viewer.events(), 1);
+        let (status, _) = viewer.get("/preview.rgba");
+        assert_eq!(status, 409, "{scene}: the first render was not a move: no navigation frame");
+
+        let mut events = viewer.events();
+        let (status, body) = viewer.post("/render?lookfrom=10,3,5&preview=1", b"");
+        assert_eq!(status, 202, "{body}");
+        let generation = serde_json::from_str::<Value>(&body).unwrap()["gen"].as_u64().unwrap();
+        let render = until_done(&mut events, generation);
+        let kinds: Vec<&str> = render.iter().map(|e| e["type"].as_str().unwrap()).collect();
+        assert_eq!(kinds[..2], ["start", "preview"], "{scene}: the navigation frame comes first");
+        assert!(kinds[2..].contains(&"tile") && !kinds[2..].contains(&"preview"), "then the full render");
+
+        let preview = &render[1];
+        let divisor = preview["divisor"].as_u64().unwrap() as u32;
+        let (width, height) =
+            (preview["width"].as_u64().unwrap() as u32, preview["height"].as_u64().unwrap() as u32);
+        let full_height = render[0]["height"].as_u64().unwrap() as u32;
+        assert!((1..=8).contains(&divisor), "{preview}");
+        assert_eq!((width, height), (96u32.div_ceil(divisor), full_height.div_ceil(divisor)), "{preview}");
+
+        let (status, rgba) = viewer.get("/preview.rgba");
+        assert_eq!(status, 200);
+        assert_eq!(rgba.len(), (width * height * 4) as usize, "{scene}: RGBA, row by row");
+        let size = [width.to_string(), height.to_string()];
+        let flags = ["--width", &size[0], "--height", &size[1], "--spp", "1", "--sampler", "sobol"];
+        let png = cli_render(&viewer, &flags, "small.png");
+        let cli = image::load_from_memory(&png).unwrap().to_rgba8().into_raw();
+        assert!(
+            rgba == cli,
+            "{scene}: the navigation frame is `raypool render`'s at {width} × {height}, 1 spp"
+        );
+
+        let (status, image) = viewer.get("/image.pfm");
+        assert_eq!(status, 200);
+        let full = cli_render(&viewer, &["--width", "96", "--spp", "4", "--sampler", "sobol"], "full.pfm");
+        assert!(image == full, "{scene}: after the navigation frame, the full render is the command line's");
+    }
+}
+
+#[test]
+fn a_bad_preview_value_is_a_400() {
+    let viewer = Viewer::start(&["--scene", "final", "--width", "32", "--spp", "1", "--threads", "1"]);
+    let (status, body) = viewer.post("/render?preview=maybe", b"");
+    assert_eq!((status, body.trim_end()), (400, "preview must be true or false, not 'maybe'"));
+}
+
+#[test]
+fn the_start_resolution_stays_between_full_size_and_an_eighth() {
+    let mut start = StartResolution::default();
+    for _ in 0..20 {
+        start.record(start.divisor(), Duration::from_secs(5));
+    }
+    assert_eq!(f64::from(start.divisor()), MAX_DIVISOR, "a very slow scene: the smallest frames");
+    for _ in 0..20 {
+        start.record(start.divisor(), Duration::ZERO);
+    }
+    assert_eq!(start.divisor(), 1, "an instant scene: full size");
+}
