@@ -27,6 +27,7 @@ struct Figures {
     scene: &'static str,
     latencies: Vec<f64>,
     frames_per_second: Vec<f64>,
+    moves_per_second: Vec<f64>,
     rest_to_16: Vec<f64>,
     rates: Vec<f64>,
     /// The start resolution's divisor of each side at the end.
@@ -78,10 +79,11 @@ fn measure(page: &mut Browser, scene: &'static str) -> Figures {
     }
     let latencies: Vec<f64> = serde_json::from_value(page.eval("window.raypoolLatencies")).unwrap();
 
-    // Drags: the mouse held and moved 2 pixels every 10 ms for 2 s, then released.
-    let (mut frames_per_second, mut rest_to_16) = (Vec::new(), Vec::new());
+    // Drags: the mouse held and moved 2 pixels at a time for 2 s, then released.
+    let (mut frames_per_second, mut rest_to_16, mut moves_per_second) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..DRAGS {
-        let (from, to, released) = drag(page, DRAG_TIME, |_, _| {});
+        let (from, to, released, moves) = drag(page, DRAG_TIME, |_, _| {});
+        moves_per_second.push(moves);
         let frames = page.eval(&format!("window.raypoolFrames.filter(t => t >= {from} && t <= {to}).length"));
         frames_per_second.push(frames.as_f64().unwrap() / ((to - from) / 1000.0));
         let rested =
@@ -93,13 +95,19 @@ fn measure(page: &mut Browser, scene: &'static str) -> Figures {
         std::thread::sleep(Duration::from_millis(300));
     }
     let divisor = page.eval("document.body.dataset.divisor").as_str().unwrap_or("?").to_string();
-    Figures { scene, latencies: latencies[before..].to_vec(), frames_per_second, rest_to_16, rates, divisor }
+    let latencies = latencies[before..].to_vec();
+    Figures { scene, latencies, frames_per_second, moves_per_second, rest_to_16, rates, divisor }
 }
 
-/// Holds the left button on the image and moves it 2 pixels right every 10 ms for `time`,
-/// calling `during(page, k)` after move `k`; returns the page's clock at the first move, at
-/// the last one, and at the release.
-fn drag(page: &mut Browser, time: Duration, mut during: impl FnMut(&mut Browser, usize)) -> (f64, f64, f64) {
+/// Holds the left button on the image and moves it 2 pixels right every 2 ms (plus the time
+/// DevTools takes to deliver a move) for `time`, calling `during(page, k)` after move `k`;
+/// returns the page's clock at the first move, at the last one, and at the release, and the
+/// moves made a second.
+fn drag(
+    page: &mut Browser,
+    time: Duration,
+    mut during: impl FnMut(&mut Browser, usize),
+) -> (f64, f64, f64, f64) {
     let rect = page.eval("(() => { const r = document.getElementById('image').getBoundingClientRect(); return [r.x, r.y, r.width, r.height]; })()");
     let r: Vec<f64> = serde_json::from_value(rect).unwrap();
     let (x, y) = (r[0] + r[2] * 0.3, r[1] + r[3] / 2.0);
@@ -111,11 +119,12 @@ fn drag(page: &mut Browser, time: Duration, mut during: impl FnMut(&mut Browser,
         k += 1;
         page.mouse("mouseMoved", (x + 2.0 * (k % 100) as f64, y), 1);
         during(page, k);
-        std::thread::sleep(Duration::from_millis(10));
+        std::thread::sleep(Duration::from_millis(2));
     }
+    let moves_per_second = k as f64 / start.elapsed().as_secs_f64();
     let to = page.eval("performance.now()").as_f64().unwrap();
     page.mouse("mouseReleased", (x, y), 0);
-    (from, to, page.eval("performance.now()").as_f64().unwrap())
+    (from, to, page.eval("performance.now()").as_f64().unwrap(), moves_per_second)
 }
 
 /// Screenshots of the image during a drag and once it has rested, side by side.
@@ -124,7 +133,7 @@ fn drag_strip(page: &mut Browser) {
     let clip: [f64; 4] = serde_json::from_value(rect).unwrap();
     let mut shots = Vec::new();
     drag(page, Duration::from_secs(3), |page, k| {
-        if k % 10 == 0 && shots.len() < 4 {
+        if k % 30 == 0 && shots.len() < 4 {
             shots.push(page.screenshot_of(clip));
         }
     });
@@ -172,6 +181,7 @@ fn report(figures: &[Figures], binary: &std::path::Path, extra: &[String]) -> St
                 &f.frames_per_second,
                 false,
             ),
+            ("mouse moves a second the drags made".to_string(), "", &f.moves_per_second, false),
             ("camera rests → full size at 16 spp on screen, ms".to_string(), "", &f.rest_to_16, true),
             ("updates a second received while rendering (50 samples)".to_string(), "", &f.rates, false),
         ];
