@@ -9,6 +9,8 @@
 //! `MAX_JOB_SAMPLES`) up to `--spp`, each pass one batch of tiles on the chosen scheduler; every
 //! finished tile becomes an event for the pages, and every finished pass becomes the image that
 //! `/image.pfm` serves, which is the image `raypool render` makes at that many samples.
+//! A render asked for while the camera moves starts with a navigation frame instead
+//! ([`crate::view::preview`]): a small 1-spp frame first, the passes once the camera rests.
 //!
 //! Invariants: at most one render thread runs; events of an old render carry its generation
 //! number, so a page ignores stragglers; a page that cannot keep up (its queue full) or has
