@@ -209,9 +209,9 @@ fn report(figures: &[Figures], binary: &std::path::Path, extra: &[String]) -> St
          renders a navigation frame at a reduced start resolution (1 sample per pixel, the divisor of each side \
          learnt from the last frame's time, `src/view/preview.rs`), announces it, and the page fetches its pixels \
          as one binary answer, draws them with one `putImageData` and scales them onto the image; the latency ends \
-         at the animation frame after that. The full-size render follows at once, pass after pass, drawn tile by \
-         tile. While dragging, the page sends one move at a time and the next when the last one's frame is on \
-         screen (moves made meanwhile collapse into the camera as it then is). `results/view-drag.png` is a strip \
+         at the animation frame after that. The full-size render follows once no other move has come for 50 ms, \
+         pass after pass, drawn tile by tile. While dragging, the page sends one move at a time and the next as \
+         soon as the last one's frame is drawn (moves made meanwhile collapse into the camera as it then is). `results/view-drag.png` is a strip \
          of the image during a drag on `final` (four navigation frames) and after it rested (16 spp); \
          `results/view.png` is the page a few passes into a render after a move.\n",
     );
