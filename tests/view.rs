@@ -19,26 +19,7 @@ const MINUTE: Duration = Duration::from_secs(60);
 
 /// `raypool render` of the server's current scene with these flags, as PFM bytes.
 fn cli_render(viewer: &Viewer, flags: &[&str]) -> Vec<u8> {
-    let dir = std::env::temp_dir().join(format!("raypool-view-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let (status, scene) = viewer.get("/scene.toml");
-    assert_eq!(status, 200);
-    let (scene_path, image_path) = (dir.join("scene.toml"), dir.join("cli.pfm"));
-    std::fs::write(&scene_path, scene).unwrap();
-    let out = output_within(
-        Command::new(env!("CARGO_BIN_EXE_raypool"))
-            .args([
-                "render",
-                "--scene-file",
-                scene_path.to_str().unwrap(),
-                "--out",
-                image_path.to_str().unwrap(),
-            ])
-            .args(flags),
-        "`raypool render` of the viewer's scene to exit",
-    );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    std::fs::read(image_path).unwrap()
+    viewer.cli_render(flags, "cli.pfm")
 }
 
 /// The server's image once render `generation` is done (a new event stream replays the

@@ -6,30 +6,11 @@
 mod common;
 mod deadline;
 
-use std::process::Command;
 use std::time::Duration;
 
 use common::viewer::{Viewer, until_done};
-use deadline::output_within;
 use raypool::view::preview::{MAX_DIVISOR, StartResolution};
 use serde_json::Value;
-
-/// `raypool render` of the viewer's current scene with `flags`, written as `file` (its format
-/// from its extension); the file's bytes.
-fn cli_render(viewer: &Viewer, flags: &[&str], file: &str) -> Vec<u8> {
-    let dir = std::env::temp_dir().join(format!("raypool-view-nav-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let (scene_path, image_path) = (dir.join("scene.toml"), dir.join(file));
-    std::fs::write(&scene_path, viewer.get("/scene.toml").1).unwrap();
-    let scene_flag =
-        ["render", "--scene-file", scene_path.to_str().unwrap(), "--out", image_path.to_str().unwrap()];
-    let out = output_within(
-        Command::new(env!("CARGO_BIN_EXE_raypool")).args(scene_flag).args(flags),
-        "`raypool render` of the viewer's scene to exit",
-    );
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    std::fs::read(image_path).unwrap()
-}
 
 #[test]
 fn a_moving_camera_gets_a_small_frame_first_then_the_command_lines_image() {
@@ -74,7 +55,7 @@ fn a_moving_camera_gets_a_small_frame_first_then_the_command_lines_image() {
         assert_eq!(rgba.len(), (width * height * 4) as usize, "{scene}: RGBA, row by row");
         let size = [width.to_string(), height.to_string()];
         let flags = ["--width", &size[0], "--height", &size[1], "--spp", "1", "--sampler", "sobol"];
-        let png = cli_render(&viewer, &flags, "small.png");
+        let png = viewer.cli_render(&flags, "small.png");
         let cli = image::load_from_memory(&png).unwrap().to_rgba8().into_raw();
         assert!(
             rgba == cli,
@@ -83,7 +64,7 @@ fn a_moving_camera_gets_a_small_frame_first_then_the_command_lines_image() {
 
         let (status, image) = viewer.get("/image.pfm");
         assert_eq!(status, 200);
-        let full = cli_render(&viewer, &["--width", "96", "--spp", "4", "--sampler", "sobol"], "full.pfm");
+        let full = viewer.cli_render(&["--width", "96", "--spp", "4", "--sampler", "sobol"], "full.pfm");
         assert!(image == full, "{scene}: after the navigation frame, the full render is the command line's");
     }
 }

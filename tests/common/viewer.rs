@@ -5,9 +5,16 @@
 
 use std::io::{BufRead, BufReader, Read};
 use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
 use serde_json::Value;
+
+// Its own copy of the deadline helper, as `browser.rs` has (the benches include this folder
+// without one).
+#[allow(clippy::duplicate_mod)]
+#[path = "../deadline/mod.rs"]
+mod deadline;
 
 /// A running viewer; killed when dropped.
 pub struct Viewer {
@@ -18,6 +25,30 @@ pub struct Viewer {
 }
 
 impl Viewer {
+    /// `raypool render` of the server's current scene (`/scene.toml`, camera included) with
+    /// `flags`, written as `file` (its format from its extension) in a scratch folder; the
+    /// file's bytes.
+    pub fn cli_render(&self, flags: &[&str], file: &str) -> Vec<u8> {
+        // A folder per call: the tests of one binary run at once, in one process.
+        static CALLS: AtomicUsize = AtomicUsize::new(0);
+        let call = CALLS.fetch_add(1, Ordering::SeqCst);
+        let dir = std::env::temp_dir().join(format!("raypool-view-{}-{call}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let (status, scene) = self.get("/scene.toml");
+        assert_eq!(status, 200);
+        let (scene_path, image_path) = (dir.join("scene.toml"), dir.join(file));
+        std::fs::write(&scene_path, scene).unwrap();
+        let paths = ["--scene-file", scene_path.to_str().unwrap(), "--out", image_path.to_str().unwrap()];
+        let out = deadline::output_within(
+            Command::new(env!("CARGO_BIN_EXE_raypool")).arg("render").args(paths).args(flags),
+            "`raypool render` of the viewer's scene to exit",
+        );
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let image = std::fs::read(image_path).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        image
+    }
+
     /// `raypool view --port 0 ARGS…`
     pub fn start(args: &[&str]) -> Viewer {
         let mut child = Command::new(env!("CARGO_BIN_EXE_raypool"))
