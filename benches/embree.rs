@@ -157,7 +157,7 @@ fn spheres(options: &Options) -> String {
     let last: Vec<Rendered> = last.into_iter().map(|r| r.expect("every contender ran")).collect();
 
     // The noise: raypool's image at another seed, against raypool's.
-    let other_seed = RenderJob::new(job.scene.clone(), RenderSettings { seed: 2, ..settings });
+    let other_seed = job.with_camera(&job.scene.camera, RenderSettings { seed: 2, ..settings });
     let noise = metrics(
         &render(&other_seed, |ray| other_seed.scene.hit(ray, Real::INFINITY)).pixels,
         &last[0].pixels,
