@@ -9,11 +9,12 @@
 //! | [`scenes`] | scenes as data: the TOML [`scenes::format`] and the [`scenes::builtin`] scenes |
 //! | [`files`] | the frame buffer ([`files::image`]), the PNG/PPM/PFM/EXR writers ([`files::output`]) and the part files of sharded renders ([`files::part`]) |
 //! | [`schedule`] | who renders which tile: [`schedule::random`] (where the random numbers come from), [`schedule::progressive`] passes, [`schedule::frame`] (a render in progress), [`schedule::adaptive`] sampling's passes, the [`schedule::modes`] and the [`schedule::conformance`] check |
+//! | [`denoise`] | a few-sample image made presentable: first-hit [`denoise::guide`] buffers and the edge-avoiding [`denoise::atrous`] filter |
 //! | [`measure`] | the [`measure::speedup`] benchmark, the [`measure::scaling`] model, error ([`measure::compare`], [`measure::convergence`]), [`measure::stress`] cases, [`measure::plot`]s, the [`measure::machine`] (CPUs, thread counts, labels), the course's [`measure::grade`]r |
 //! | [`cli`] | the `raypool` command: [`cli::args`] (its flags), [`cli::settings`] (what they resolve to), a file per command, [`cli::interrupt`] (Ctrl-C) and [`cli::memory`] (will it fit?) |
 //! | [`view`] | `raypool view`: the live viewer in the browser (its server, its render session, its page) |
 //!
-//! [`scenes`] and [`files`] sit side by side: neither uses the other.
+//! [`scenes`] and [`files`] sit side by side: neither uses the other; so do [`schedule`] and [`denoise`].
 //! The types most programs need are re-exported here: `raypool::{SceneFile, RenderJob, Frame, Scheduler, …}`.
 
 #![forbid(unsafe_code)]
@@ -24,6 +25,7 @@ pub mod tracer;
 pub mod scenes;
 pub mod files;
 pub mod schedule;
+pub mod denoise;
 pub mod measure;
 pub mod cli;
 pub mod view;

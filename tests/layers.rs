@@ -13,13 +13,14 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The layers, lowest first. A module may use its own folder and any folder of a lower rank.
-/// `scenes` and `files` share a rank: neither may use the other.
+/// `scenes` and `files` share a rank, as do `schedule` and `denoise`: neither may use the other.
 const LAYERS: &[(&str, u32)] = &[
     ("error", 0),
     ("tracer", 1),
     ("scenes", 2),
     ("files", 2),
     ("schedule", 3),
+    ("denoise", 3),
     ("measure", 4),
     ("cli", 5),
     ("view", 6),

@@ -150,6 +150,11 @@ pub struct RenderArgs {
     /// into a part file (--out NAME.rpart) for `raypool merge`.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<Shard>,
+    /// Denoise the image before writing it: the edge-avoiding à-trous filter guided by each
+    /// pixel's first hit (what the viewer shows while the camera moves). Biased: never for
+    /// measurements. Not with a part file (a shard lacks its neighbours' pixels).
+    #[arg(long)]
+    pub denoise: bool,
     /// Output; the extension picks the format: .png, .ppm (P6), .pfm or .exr (linear float), or
     /// .rpart (a part file of --shard, or of the whole image without it).
     #[arg(long, default_value = "render.png")]

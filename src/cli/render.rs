@@ -1,6 +1,6 @@
 //! `raypool render`: one image, or one shard of it as a part file, rendered by the chosen
 //! scheduler with a progress bar on a terminal, refused before it starts if it would not fit
-//! in memory, stopped cleanly by Ctrl-C; prints one line of figures when done.
+//! in memory, stopped cleanly by Ctrl-C, denoised if asked; prints one line of figures when done.
 
 use std::io::IsTerminal;
 use std::sync::Arc;
@@ -12,6 +12,7 @@ use crate::cli::args::RenderArgs;
 use crate::cli::interrupt::Interrupt;
 use crate::cli::memory;
 use crate::cli::settings::{load_scene, render_job, render_settings, worker_threads};
+use crate::denoise::denoise;
 use crate::error::Error;
 use crate::files::output::{Format, PendingOutput};
 use crate::files::part::{Part, PartSettings, scene_digest};
@@ -47,14 +48,20 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         Arc::new(move |n| bar.inc(n))
     };
     let job = render_job(image, &scene, settings);
-    let frame =
-        Arc::new(Frame::new(job, rng, threads, image.tile, progress).sharded(shard).with_cancel(cancel));
+    let frame = Arc::new(
+        Frame::new(job.clone(), rng, threads, image.tile, progress).sharded(shard).with_cancel(cancel),
+    );
 
     let start = Instant::now();
-    let rendered = render(&frame, &args.workers.mode);
+    let mut rendered = render(&frame, &args.workers.mode);
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
     interrupt.check()?; // dropping `output` deletes its temporary file
+    let denoised = args.denoise.then(|| {
+        let start = Instant::now();
+        rendered.image = denoise(&job, &rendered.image, threads);
+        format!(", denoised in {:.3} s", start.elapsed().as_secs_f64())
+    });
     if output.format() == Format::Part {
         let digest = scene_digest(&scene.to_toml());
         let mut part = Part::new(
@@ -75,13 +82,14 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let mode = args.workers.mode.name();
     let shard_note = if shard == Shard::WHOLE { String::new() } else { format!(", shard {shard}") };
     eprintln!(
-        "{}x{}{shard_note}, {} spp, depth {}, mode {mode}, threads {threads_used}: {seconds:.3} s, {} rays, {:.2} Mrays/s -> {}",
+        "{}x{}{shard_note}, {} spp, depth {}, mode {mode}, threads {threads_used}: {seconds:.3} s, {} rays, {:.2} Mrays/s{} -> {}",
         settings.width,
         settings.height,
         spp_summary(&settings, rendered.samples, pixels),
         settings.max_depth,
         rendered.rays,
         rendered.rays as f64 / seconds / 1e6,
+        denoised.unwrap_or_default(),
         args.out.display()
     );
     Ok(())
@@ -92,6 +100,11 @@ fn check_shard(args: &RenderArgs, format: Format) -> Result<Shard, Error> {
     if format == Format::Part && args.workers.rng == RngChoice::Shared {
         return Err(Error::new(
             "--rng shared draws numbers in whatever order threads run, so parts would not merge into one image: use --rng per-sample",
+        ));
+    }
+    if format == Format::Part && args.denoise {
+        return Err(Error::new(
+            "--denoise needs the whole image (a pixel is filtered with its neighbours): write .png, .ppm, .pfm or .exr, and denoise no part file",
         ));
     }
     match args.shard {

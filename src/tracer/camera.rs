@@ -48,6 +48,8 @@ pub struct Camera {
     lens_u: Vec3,
     lens_v: Vec3,
     has_lens: bool,
+    /// The angle one pixel spans at the image's centre, radians.
+    pixel_angle: Real,
 }
 
 impl Camera {
@@ -77,6 +79,7 @@ impl Camera {
             lens_u: lens_radius * u,
             lens_v: lens_radius * v,
             has_lens: lens_radius > 0.0,
+            pixel_angle: 2.0 * h.tan() / height as Real,
         }
     }
 
@@ -97,6 +100,12 @@ impl Camera {
             self.center
         };
         Ray::new(origin, target - origin)
+    }
+
+    /// The angle one pixel spans at the image's centre, radians (`2·tan(vfov/2) / height`):
+    /// how far apart neighbouring pixels' rays are, for the denoiser's sense of scale.
+    pub fn pixel_angle(&self) -> Real {
+        self.pixel_angle
     }
 
     /// The ray through the exact centre of pixel-space point `(x, y)` (in pixels, from the

@@ -34,6 +34,7 @@ pub fn preview_event(preview: &Preview) -> String {
     json!({
         "type": "preview", "gen": preview.generation, "width": preview.width, "height": preview.height,
         "divisor": preview.divisor, "seconds": preview.took.as_secs_f64(),
+        "denoised": preview.denoising.map(|d| d.as_secs_f64()),
     })
     .to_string()
 }

@@ -10,12 +10,17 @@
 //! limit) and stays within `1..=`[`MAX_DIVISOR`]. Its pixels go to the page as one binary
 //! answer (`GET /preview.rgba`: 8-bit RGBA, drawn with one `putImageData`), not as tiles.
 //!
+//! A navigation frame is denoised unless the page turned it off (`denoise=0`): the guides and
+//! the filter of [`crate::denoise`], on the session's threads, their time counted in the
+//! frame's (so the start resolution makes room for them).
+//!
 //! Invariant: a navigation frame is never the image `/image.*` serves (that is always the
 //! full-size render's latest pass, as `raypool render` makes it).
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+use crate::denoise::denoise;
 use crate::files::image::Image;
 use crate::schedule::frame::Frame;
 use crate::schedule::kept::KeptPool;
@@ -86,14 +91,16 @@ pub struct Preview {
     pub height: u32,
     /// The divisor of each side it was rendered at.
     pub divisor: u32,
-    /// Its render time.
+    /// Its render time, denoising included.
     pub took: Duration,
+    /// The denoiser's share of `took`, if the frame was denoised.
+    pub denoising: Option<Duration>,
     /// 8-bit RGBA, row by row (as the page's `ImageData` wants it), shared by every reader.
     pub rgba: Arc<[u8]>,
 }
 
-/// Renders `config`'s scene at `1/divisor` of each side, 1 sample per pixel, on `pool`;
-/// `None` if `cancel` stopped it.
+/// Renders `config`'s scene at `1/divisor` of each side, 1 sample per pixel, on `pool`, and
+/// denoises it if `config.denoise`; `None` if `cancel` stopped it.
 pub fn render_preview(
     generation: u64,
     config: &Config,
@@ -110,16 +117,22 @@ pub fn render_preview(
     };
     let job = config.job.with_camera(&config.scene.camera, settings);
     let rng = RngSource::new(&settings, config.rng);
-    let frame =
-        Frame::new(job, rng, config.threads, config.tile, Arc::new(|_| {})).with_cancel(cancel.clone());
+    let frame = Frame::new(job.clone(), rng, config.threads, config.tile, Arc::new(|_| {}))
+        .with_cancel(cancel.clone());
     let started = Instant::now();
-    let rendered = render(&Arc::new(frame), &pool.with_mode(config.mode));
+    let mut image = render(&Arc::new(frame), &pool.with_mode(config.mode)).image;
     if cancel.is_cancelled() {
         return None;
     }
+    let denoising = config.denoise.then(|| {
+        let start = Instant::now();
+        image = denoise(&job, &image, config.threads);
+        start.elapsed()
+    });
     let took = started.elapsed();
-    let rgba = rgba(&rendered.image).into();
-    Some(Preview { generation, width: settings.width, height: settings.height, divisor, took, rgba })
+    let rgba = rgba(&image).into();
+    let (width, height) = (settings.width, settings.height);
+    Some(Preview { generation, width, height, divisor, took, denoising, rgba })
 }
 
 /// Waits [`REFINE_AFTER`]; `false` if `cancel` (the next move) came first.

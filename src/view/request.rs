@@ -5,9 +5,10 @@
 //! same clap definition as `raypool view`'s own flags, *on top of the flags in effect*, so a
 //! request changes only what it names (`threads=1` keeps the scene, camera, mode and spp)
 //! and gets the command line's limits (sizes ≤ 16384, threads ≤ 4096, …) and its one-line
-//! messages. Three parameters are the page's own: `lookfrom=x,y,z` (the orbiting camera),
-//! `preview=1` (the camera is moving: show a small frame first, see `session.rs`) and a
-//! pasted scene in the body. A request that names neither `scene` nor a pasted scene keeps
+//! messages. Four parameters are the page's own: `lookfrom=x,y,z` (the orbiting camera),
+//! `preview=1` (the camera is moving: show a small frame first, see `session.rs`),
+//! `denoise=1|0` (denoise those frames; on until a request turns it off) and a pasted scene
+//! in the body. A request that names neither `scene` nor a pasted scene keeps
 //! the current scene, camera included, and its built world (a camera move rebuilds no tree);
 //! `height=auto` returns to the scene's aspect.
 //! Parameters that would reach outside the page are refused: `scene-file` (a path on the
@@ -73,6 +74,8 @@ pub struct Config {
     pub args: ViewArgs,
     /// The camera is moving: show a navigation frame first (see [`crate::view::preview`]).
     pub preview: bool,
+    /// Denoise the navigation frames ([`crate::denoise`]); on by default.
+    pub denoise: bool,
 }
 
 /// Flags a request may not carry, with the reason.
@@ -92,7 +95,7 @@ const REFUSED: &[(&str, &str)] = &[
 pub fn parse(query: &str, body: &str, current: &Config) -> Result<Config, Error> {
     let mut argv = vec!["view".to_string()];
     let (mut lookfrom, mut roulette, mut names_scene, mut auto_height) = (None, None, false, false);
-    let mut preview = false;
+    let (mut preview, mut denoise) = (false, current.denoise);
     for (name, value) in form_urlencoded::parse(query.as_bytes()) {
         if let Some((_, why)) = REFUSED.iter().find(|(refused, _)| *refused == name) {
             return Err(Error::new(format!("'{name}' cannot be set by a request: {why}")));
@@ -100,6 +103,7 @@ pub fn parse(query: &str, body: &str, current: &Config) -> Result<Config, Error>
         match name.as_ref() {
             "lookfrom" => lookfrom = Some(point(&value)?),
             "preview" => preview = on_or_off(name.as_ref(), &value)?,
+            "denoise" => denoise = on_or_off(name.as_ref(), &value)?,
             // The height in effect stays unless named: `auto` names the scene's aspect again.
             "height" if value == "auto" => auto_height = true,
             // A flag's absence cannot switch it off on top of the flags in effect: say it.
@@ -132,7 +136,7 @@ pub fn parse(query: &str, body: &str, current: &Config) -> Result<Config, Error>
         Some((current.name.clone(), current.scene.clone()))
     };
     let config = config(&args, scene, lookfrom, Some(current))?;
-    Ok(Config { preview, ..config })
+    Ok(Config { preview, denoise, ..config })
 }
 
 /// A yes-or-no parameter's value.
@@ -195,6 +199,7 @@ pub fn config(
         name,
         job: job.into(),
         preview: false,
+        denoise: current.is_none_or(|c| c.denoise),
         scene,
         threads,
         mode: args.workers.mode,

@@ -135,6 +135,7 @@ fn state(session: &Session) -> String {
         "mode": config.mode.name(), "threads": config.threads, "tile": config.tile,
         "rng": if config.rng == RngChoice::Shared { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
         "light-sampling": settings.light_sampling.name(), "width": settings.width, "height": settings.height, "spp": settings.spp,
+        "denoise": config.denoise,
     })
     .to_string()
 }

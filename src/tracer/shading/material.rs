@@ -124,6 +124,20 @@ impl Material {
         }
     }
 
+    /// The colour a denoiser's guide records for this material at `hit`: what it multiplies
+    /// the light arriving there by on average (its albedo; 1 for glass, which tints nothing;
+    /// a light's emission from its front, so the light divides out to 1 as the sky does).
+    pub fn albedo(&self, hit: &Hit, textures: &Textures) -> Vec3 {
+        match *self {
+            Material::Lambertian { albedo } | Material::Metal { albedo, .. } => albedo,
+            Material::Isotropic { albedo } => albedo,
+            Material::Textured { texture } => textures.value(texture, hit.u, hit.v, hit.point),
+            Material::Dielectric { .. } => Vec3::ONE,
+            Material::DiffuseLight { emit, .. } if hit.front_face => emit,
+            Material::DiffuseLight { albedo, .. } => Vec3::splat(albedo),
+        }
+    }
+
     /// How [`Material::scatter`] draws its direction, for a material whose bounce a light
     /// sample can be weighed against: a diffuse material (or a light that reflects) draws
     /// with the cosine density, fog by the isotropic phase function; `None` for mirrors and
