@@ -32,6 +32,9 @@ struct Figures {
     rates: Vec<f64>,
     /// The start resolution's divisor of each side at the end.
     divisor: String,
+    /// The navigation frames' time on the server, and the denoiser's share of it, ms.
+    frame_ms: Vec<f64>,
+    denoise_ms: Vec<f64>,
 }
 
 fn main() {
@@ -47,6 +50,10 @@ fn main() {
         page.wait_for("document.body.dataset.spp >= 1", MINUTE);
         figures.push(measure(&mut page, scene));
         if scene == "final" {
+            // The same without the denoiser (the page's checkbox), then with it again.
+            page.eval("document.getElementById('denoise').checked = false; true");
+            figures.push(measure(&mut page, "final, denoise off"));
+            page.eval("document.getElementById('denoise').checked = true; true");
             drag_strip(&mut page);
             page.eval("orbit(0.3, 0.05, 0.9); true");
             page.wait_for("+document.body.dataset.spp >= 32", MINUTE);
@@ -72,6 +79,7 @@ fn measure(page: &mut Browser, scene: &'static str) -> Figures {
     // Camera moves: the call a drag makes (`orbit`), one at a time, each after the last
     // one's first frame is on screen and a moment of rendering.
     let before = page.eval("window.raypoolLatencies.length").as_u64().unwrap() as usize;
+    let previews_before = page.eval("window.raypoolPreviews.length").as_u64().unwrap() as usize;
     for k in 0..MOVES {
         page.eval(&format!("orbit({}, 0.01, 1); true", if k % 2 == 0 { 0.05 } else { -0.04 }));
         page.wait_for(&format!("window.raypoolLatencies.length >= {}", before + k + 1), MINUTE);
@@ -96,7 +104,22 @@ fn measure(page: &mut Browser, scene: &'static str) -> Figures {
     }
     let divisor = page.eval("document.body.dataset.divisor").as_str().unwrap_or("?").to_string();
     let latencies = latencies[before..].to_vec();
-    Figures { scene, latencies, frames_per_second, moves_per_second, rest_to_16, rates, divisor }
+    let previews: Vec<(f64, Option<f64>)> =
+        serde_json::from_value(page.eval("window.raypoolPreviews")).unwrap();
+    let previews = &previews[previews_before..];
+    let frame_ms = previews.iter().map(|p| p.0 * 1e3).collect();
+    let denoise_ms = previews.iter().filter_map(|p| p.1).map(|d| d * 1e3).collect();
+    Figures {
+        scene,
+        latencies,
+        frames_per_second,
+        moves_per_second,
+        rest_to_16,
+        rates,
+        divisor,
+        frame_ms,
+        denoise_ms,
+    }
 }
 
 /// Holds the left button on the image and moves it 2 pixels right every 2 ms (plus the time
@@ -182,10 +205,15 @@ fn report(figures: &[Figures], binary: &std::path::Path, extra: &[String]) -> St
                 false,
             ),
             ("mouse moves a second the drags made".to_string(), "", &f.moves_per_second, false),
+            ("navigation frame on the server (render + denoise), ms".to_string(), "", &f.frame_ms, true),
+            ("of which the denoiser, ms".to_string(), "", &f.denoise_ms, true),
             ("camera rests → full size at 16 spp on screen, ms".to_string(), "", &f.rest_to_16, true),
             ("updates a second received while rendering (50 samples)".to_string(), "", &f.rates, false),
         ];
         for (measure, target, values, low_is_good) in rows {
+            if values.is_empty() {
+                continue; // the denoiser's share, with the denoiser off
+            }
             let mut v = values.clone();
             v.sort_by(f64::total_cmp);
             let q = |q: f64| v[((v.len() - 1) as f64 * q).round() as usize];
@@ -209,7 +237,9 @@ fn report(figures: &[Figures], binary: &std::path::Path, extra: &[String]) -> St
          renders a navigation frame at a reduced start resolution (1 sample per pixel, the divisor of each side \
          learnt from the last frame's time, `src/view/preview.rs`), announces it, and the page fetches its pixels \
          as one binary answer, draws them with one `putImageData` and scales them onto the image; the latency ends \
-         at the animation frame after that. The full-size render follows once no other move has come for 50 ms, \
+         at the animation frame after that. Navigation frames are denoised (`src/denoise/`, the page's default; \
+         its time counts in the frame's, so the start resolution makes room for it); the `final, denoise off` rows \
+         are the same page with the checkbox cleared. The full-size render follows once no other move has come for 50 ms, \
          pass after pass, drawn tile by tile. While dragging, the page sends one move at a time and the next as \
          soon as the last one's frame is drawn (moves made meanwhile collapse into the camera as it then is). `results/view-drag.png` is a strip \
          of the image during a drag on `final` (four navigation frames) and after it rested (16 spp); \
