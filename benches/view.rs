@@ -67,7 +67,7 @@ fn main() {
 
 fn measure(page: &mut Browser, scene: &'static str) -> Figures {
     // Updates a second while rendering: sample the page's one-second count for 5 s.
-    page.eval("const s = document.getElementById('spp'); s.value = 1024; s.dispatchEvent(new Event('change')); true");
+    page.eval("(() => { const s = document.getElementById('spp'); s.value = 1024; s.dispatchEvent(new Event('change')); return true; })()");
     std::thread::sleep(Duration::from_millis(500));
     let rates = (0..50)
         .map(|_| {
