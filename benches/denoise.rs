@@ -113,7 +113,8 @@ fn main() {
             if name == "final" {
                 let row: Vec<String> = (1..=5)
                     .map(|passes| {
-                        let filtered = Filter { passes, ..Filter::default() }.apply(&noisy.pixels, &guides, threads);
+                        let filtered =
+                            Filter { passes, ..Filter::default() }.apply(&noisy.pixels, &guides, threads);
                         format!("{:.2}", surfaces.0 / rmse(&filtered, &reference.pixels, &inside))
                     })
                     .collect();

@@ -25,6 +25,7 @@ pub fn start_event(generation: u64, config: &Config) -> String {
         "mode": config.mode.name(), "tile": config.tile,
         "rng": if config.rng == RngChoice::Shared { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
         "lookfrom": config.scene.camera.lookfrom, "lookat": config.scene.camera.lookat,
+        "preview": config.preview,
     })
     .to_string()
 }

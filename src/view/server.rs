@@ -8,7 +8,7 @@
 //! | `GET /events` | server-sent events: `start`, then a `tile` per finished tile, a `pass` per pass, `done` |
 //! | `POST /render?flag=value…` | cancels the running render and starts this one (body: a pasted TOML scene, optional); 202 |
 //! | `GET /image.pfm`, `/image.png` | the image after the latest finished pass, encoded once per pass for every reader (at most 32 at once, then 503); header `X-Raypool-Spp` says how many samples |
-//! | `GET /preview.rgba` | the running render's navigation frame (a `POST /render` with `preview=1`): 8-bit RGBA, its size in `X-Raypool-Width` and `X-Raypool-Height` (counted among the 32 image answers) |
+//! | `GET /preview.rgba` | the latest navigation frame (a `POST /render` with `preview=1` makes one; it stays while the next render runs): 8-bit RGBA, its size in `X-Raypool-Width` and `X-Raypool-Height`, its render in `X-Raypool-Gen` (counted among the 32 image answers) |
 //! | `GET /scene.toml` | the running render's scene, camera included |
 //!
 //! Every connection is answered on its own short thread (an event stream lives as long as its
@@ -176,15 +176,14 @@ fn image(session: &Session, format: Format, stream: &mut TcpStream) {
     });
 }
 
-/// `GET /preview.rgba`: the running render's navigation frame, shared bytes; 409 when it
-/// has none (it was not asked for, or is not finished).
+/// `GET /preview.rgba`: the latest navigation frame, shared bytes; 409 before the first.
 fn preview(session: &Session, stream: &mut TcpStream) {
     send_image(session, stream, || match session.preview() {
         Some(p) => Response::ok("application/octet-stream", Arc::clone(&p.rgba))
             .with("X-Raypool-Width", p.width)
             .with("X-Raypool-Height", p.height)
             .with("X-Raypool-Gen", p.generation),
-        None => Response::text(409, "the running render has no navigation frame (yet)"),
+        None => Response::text(409, "no navigation frame yet: a POST /render with preview=1 makes one"),
     });
 }
 

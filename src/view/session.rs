@@ -302,10 +302,10 @@ impl Session {
         pages.senders.retain(|page| page.try_send(Arc::clone(&event)).is_ok());
     }
 
-    /// The running render's latest navigation frame, if it has one.
+    /// The latest navigation frame, if a render has made one: kept after the next render
+    /// starts, so the page can fetch it while the server renders the next move's.
     pub fn preview(&self) -> Option<Arc<Preview>> {
-        let generation = self.current.lock().generation;
-        self.preview.lock().clone().filter(|p| p.generation == generation)
+        self.preview.lock().clone()
     }
 
     /// Renders and announces a navigation frame at the learnt start resolution; `false` if
