@@ -241,7 +241,8 @@ fn report(figures: &[Figures], binary: &std::path::Path, extra: &[String]) -> St
          its time counts in the frame's, so the start resolution makes room for it); the `final, denoise off` rows \
          are the same page with the checkbox cleared. The full-size render follows once no other move has come for 50 ms, \
          pass after pass, drawn tile by tile. While dragging, the page sends one move at a time and the next as \
-         soon as the last one's frame is drawn (moves made meanwhile collapse into the camera as it then is). `results/view-drag.png` is a strip \
+         soon as the last one's frame is announced, so the server renders it while the page fetches and draws \
+         that frame (moves made meanwhile collapse into the camera as it then is). `results/view-drag.png` is a strip \
          of the image during a drag on `final` (four navigation frames) and after it rested (16 spp); \
          `results/view.png` is the page a few passes into a render after a move.\n",
     );
