@@ -43,11 +43,12 @@ pub fn denoise(job: &RenderJob, image: &Image, threads: usize) -> Image {
 }
 
 /// Calls `work(first_row, band)` for bands of whole rows of `out` (rows of `width`), on up to
-/// `threads` scoped threads: each pixel is written by exactly one call, so the result does
-/// not depend on how many.
+/// `threads` scoped threads (no more than the machine's CPUs: a render may ask for 4,096):
+/// each pixel is written by exactly one call, so the result does not depend on how many.
 fn in_row_bands<T: Send>(out: &mut [T], width: usize, threads: usize, work: impl Fn(usize, &mut [T]) + Sync) {
     let rows = out.len() / width.max(1);
-    let rows_per_band = rows.div_ceil(threads.clamp(1, rows.max(1))).max(1);
+    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let rows_per_band = rows.div_ceil(threads.min(cpus).clamp(1, rows.max(1))).max(1);
     std::thread::scope(|scope| {
         let mut bands = out.chunks_mut(rows_per_band * width).enumerate();
         let first = bands.next();
