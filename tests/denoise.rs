@@ -6,11 +6,11 @@
 mod deadline;
 
 use deadline::{ok, raypool, scratch};
-use glam::Vec3A as Vec3;
 use raypool::denoise::atrous::Filter;
 use raypool::denoise::guide::{Guide, Guides};
 use raypool::files::output::read_pfm;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::tracer::math::real::{Real, Vec3};
 use raypool::{RenderJob, RenderSettings};
 
 /// `raypool render --scene final --width 160 FLAGS` as linear pixels.
@@ -55,7 +55,7 @@ fn denoising_one_sample_of_final_brings_it_closer_to_the_converged_image() {
 
 /// Pixel `(x, y)`'s point on a wall facing the camera (a pixel is 1 unit there).
 fn at(x: u32, y: u32) -> Vec3 {
-    Vec3::new(x as f32, y as f32, 0.0)
+    Vec3::new(Real::from(x as u16), Real::from(y as u16), 0.0)
 }
 
 /// Two surfaces side by side on a 32 × 16 image, and noisy light on both.
@@ -69,7 +69,7 @@ fn two_surfaces(right: impl Fn(u32, u32) -> Guide) -> (Guides, Vec<Vec3>) {
     };
     let pixels: Vec<Guide> =
         (0..w * h).map(|k| if k % w < w / 2 { left(k % w, k / w) } else { right(k % w, k / w) }).collect();
-    let noise = |k: u32| 0.5 + 0.4 * (((k * 7919) % 101) as f32 / 100.0 - 0.5);
+    let noise = |k: u32| 0.5 + 0.4 * (Real::from(((k * 7919) % 101) as u16) / 100.0 - 0.5);
     let light = pixels.iter().enumerate().map(|(k, g)| g.albedo * noise(k as u32)).collect();
     (Guides { width: w, height: h, pixel_angle: 0.01, pixels }, light)
 }
@@ -123,8 +123,8 @@ fn an_edge_between_surfaces_stops_the_filter() {
         }
         // And the filter did filter: the left surface's spread of values shrank.
         let spread = |v: &[Vec3]| {
-            let left: Vec<f32> = (0..v.len()).filter(|k| k % 32 < 16).map(|k| v[k].x).collect();
-            left.iter().cloned().fold(f32::MIN, f32::max) - left.iter().cloned().fold(f32::MAX, f32::min)
+            let left: Vec<Real> = (0..v.len()).filter(|k| k % 32 < 16).map(|k| v[k].x).collect();
+            left.iter().cloned().fold(Real::MIN, Real::max) - left.iter().cloned().fold(Real::MAX, Real::min)
         };
         assert!(
             spread(&filtered) < 0.5 * spread(&light),
