@@ -42,22 +42,35 @@ pub fn denoise(job: &RenderJob, image: &Image, threads: usize) -> Image {
     Image { width: image.width, height: image.height, pixels }
 }
 
-/// Calls `work(first_row, band)` for bands of whole rows of `out` (rows of `width`), on up to
-/// `threads` scoped threads (no more than the machine's CPUs: a render may ask for 4,096):
-/// each pixel is written by exactly one call, so the result does not depend on how many.
+/// Calls `work(first_row, band)` for bands of a few whole rows of `out` (rows of `width`), on
+/// up to `threads` scoped threads (no more than the machine's CPUs: a render may ask for
+/// 4,096), each thread taking every `threads`-th band: interleaved, because an image's cost is
+/// not even (a sky's rows cost nearly nothing; with one band per thread, the thread given the
+/// ground did all the work). Each pixel is written by exactly one call, so the result does not
+/// depend on how many threads.
 fn in_row_bands<T: Send>(out: &mut [T], width: usize, threads: usize, work: impl Fn(usize, &mut [T]) + Sync) {
     let rows = out.len() / width.max(1);
     let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let rows_per_band = rows.div_ceil(threads.min(cpus).clamp(1, rows.max(1))).max(1);
+    let threads = threads.min(cpus).clamp(1, rows.max(1));
+    let rows_per_band = rows.div_ceil(BANDS_PER_THREAD * threads).max(1);
+    let mut shares: Vec<Vec<(usize, &mut [T])>> = (0..threads).map(|_| Vec::new()).collect();
+    for (k, band) in out.chunks_mut(rows_per_band * width.max(1)).enumerate() {
+        shares[k % threads].push((k * rows_per_band, band));
+    }
+    let run =
+        |share: Vec<(usize, &mut [T])>| share.into_iter().for_each(|(first_row, band)| work(first_row, band));
     std::thread::scope(|scope| {
-        let mut bands = out.chunks_mut(rows_per_band * width).enumerate();
-        let first = bands.next();
-        for (k, band) in bands {
-            let work = &work;
-            scope.spawn(move || work(k * rows_per_band, band));
+        let mut shares = shares.into_iter();
+        let own = shares.next();
+        for share in shares {
+            scope.spawn(|| run(share));
         }
-        if let Some((_, band)) = first {
-            work(0, band);
+        if let Some(share) = own {
+            run(share);
         }
     });
 }
+
+/// Bands of rows per thread: enough that uneven rows even out, few enough that each band is
+/// a long run of pixels.
+const BANDS_PER_THREAD: usize = 8;
