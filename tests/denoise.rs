@@ -5,7 +5,7 @@
 
 mod deadline;
 
-use deadline::{ok, raypool, scratch};
+use deadline::{ok, raypool, scratch, within};
 use raypool::denoise::atrous::Filter;
 use raypool::denoise::guide::{Guide, Guides};
 use raypool::files::output::read_pfm;
@@ -38,7 +38,8 @@ fn denoising_one_sample_of_final_brings_it_closer_to_the_converged_image() {
         let denoised = render(&dir, "denoised.pfm", &["--spp", "1", "--seed", seed, "--denoise"]);
         let settings =
             RenderSettings { width: 160, height: 107, seed: seed.parse().unwrap(), ..Default::default() };
-        let guides = Guides::of(&RenderJob::new(scene.clone(), settings), 2);
+        let job = RenderJob::new(scene.clone(), settings);
+        let guides = within("the guides of final on 2 threads", move || Guides::of(&job, 2));
         let all: Vec<usize> = (0..reference.len()).collect();
         let inside = guides.inside_surfaces();
         assert!(inside.len() > all.len() / 4, "{} of {} pixels inside surfaces", inside.len(), all.len());
@@ -108,11 +109,14 @@ fn an_edge_between_surfaces_stops_the_filter() {
     ];
     for (what, right) in edges {
         let (guides, light) = two_surfaces(right);
-        let filtered = Filter::default().apply(&light, &guides, 2);
+        let (g, l) = (guides.clone(), light.clone());
+        let filtered = within("the filter on 2 threads", move || Filter::default().apply(&l, &g, 2));
         // Whatever lies across the edge, the left surface's pixels stay what they were.
         let brighter: Vec<Vec3> =
             light.iter().enumerate().map(|(k, &c)| if k % 32 >= 16 { c * 100.0 } else { c }).collect();
-        let beside_brighter = Filter::default().apply(&brighter, &guides, 2);
+        let g = guides.clone();
+        let beside_brighter =
+            within("the filter on 2 threads", move || Filter::default().apply(&brighter, &g, 2));
         let left = (0..light.len()).filter(|k| k % 32 < 16);
         for k in left {
             let (a, b) = (filtered[k], beside_brighter[k]);
