@@ -3,19 +3,29 @@
 //! known otherwise: a density integrates to 1 over the sphere of directions, and the mean of
 //! `1/pdf` over sampled directions is the solid angle the lights cover.
 
+use std::sync::Arc;
+
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
+use raypool::tracer::geometry::moving::MovingSphere;
 use raypool::tracer::geometry::quad::Quad;
 use raypool::tracer::geometry::sphere::Sphere;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3};
+use raypool::tracer::math::transform::Transform;
 use raypool::tracer::sampling::warp::random_unit_vector;
 use raypool::tracer::shading::material::Material;
 use raypool::tracer::world::lights::Lights;
-use raypool::tracer::world::object::Object;
+use raypool::tracer::world::mesh::Mesh;
+use raypool::tracer::world::object::{Group, Instance, Object, Probe};
 
-/// A lamp quad facing down, a bright sphere beside it, a quad seen from behind, and a
-/// non-emitting sphere (not a light): from the origin, the three lights fill about 0.9 sr.
+/// The time at which the moving light is sampled.
+const TIME: Real = 0.7;
+
+/// A lamp quad facing down, a bright sphere beside it, a quad seen from behind, a sphere
+/// light moving during the shutter, a square of two emitting mesh triangles placed by an
+/// instance (turned 30° and moved), and a non-emitting sphere (not a light): the lights and
+/// every object.
 fn lights() -> (Lights, Vec<Object>) {
     let materials = [
         Material::DiffuseLight { emit: Vec3::splat(4.0), albedo: 0.0 },
@@ -25,19 +35,44 @@ fn lights() -> (Lights, Vec<Object>) {
     let lamp = Quad::new(Vec3::new(-0.5, 2.0, -0.5), Vec3::Z, Vec3::X, 0).unwrap();
     let behind = Quad::new(Vec3::new(-2.0, -1.0, 1.5), Vec3::X * 0.5, Vec3::Y, 0).unwrap();
     let ball = Sphere { center: Vec3::new(2.0, 0.5, -1.0), radius: 0.4, material: 1 };
+    let moving = MovingSphere {
+        center0: Vec3::new(-2.0, 0.5, -2.0),
+        center1: Vec3::new(-2.0, 0.5, 0.0),
+        radius: 0.3,
+        material: 1,
+    };
+    let corners = [[-0.3, 0.0, -0.3], [0.3, 0.0, -0.3], [0.3, 0.0, 0.3], [-0.3, 0.0, 0.3]];
+    let square =
+        Mesh::new(corners.map(Vec3::from).to_vec(), vec![], vec![], vec![[0, 2, 1], [0, 3, 2]]).unwrap();
+    let placed = Transform::rotate_y(30.0).then_translate(Vec3::new(0.0, -1.5, -2.0));
+    let tile = Instance::new(placed, Group::new(vec![Object::Mesh(Arc::new(square), 0)]));
     let plain = Sphere { center: Vec3::new(0.0, -2.0, 0.0), radius: 0.5, material: 2 };
-    let objects = vec![Object::Quad(lamp), Object::Quad(behind), Object::Sphere(ball), Object::Sphere(plain)];
+    let objects = vec![
+        Object::Quad(lamp),
+        Object::Quad(behind),
+        Object::Sphere(ball),
+        Object::Moving(moving),
+        Object::Instance(Box::new(tile)),
+        Object::Sphere(plain),
+    ];
     (Lights::new(&objects, &materials), objects)
+}
+
+#[test]
+fn every_emitter_is_a_light_wherever_it_is() {
+    // Two quads, the still and the moving sphere, and both triangles inside the instance.
+    assert_eq!(lights().0.len(), 6);
 }
 
 #[test]
 fn a_lights_density_integrates_to_one_over_all_directions() {
     let (lights, _) = lights();
-    assert_eq!(lights.len(), 3, "two quads and the emitting sphere");
     let mut rng = SmallRng::seed_from_u64(1);
     let n = 1_000_000;
     let values: Vec<f64> = (0..n)
-        .map(|_| f64::from(lights.pdf(Vec3::ZERO, random_unit_vector(&mut rng))) * 4.0 * std::f64::consts::PI)
+        .map(|_| {
+            f64::from(lights.pdf(Vec3::ZERO, random_unit_vector(&mut rng), TIME)) * 4.0 * std::f64::consts::PI
+        })
         .collect();
     let mean = values.iter().sum::<f64>() / n as f64;
     let spread = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt();
@@ -47,25 +82,31 @@ fn a_lights_density_integrates_to_one_over_all_directions() {
 
 #[test]
 fn sampled_directions_are_drawn_with_the_density_pdf_gives_them() {
-    // E[1/pdf] over sampled directions is the solid angle the lights cover; so is the share of
-    // uniformly drawn directions that meet a light, times 4π.
+    // E[1/pdf] over sampled directions is the solid angle the lights cover (the moving one
+    // where it is at TIME); so is the share of uniformly drawn directions that meet a light,
+    // times 4π. Each sample's own density is the one `pdf` gives its direction (no two
+    // lights overlap as seen from the origin).
     let (lights, objects) = lights();
+    let probe = Probe { time: TIME, ..Default::default() };
     let lit = |dir: Vec3| {
         let ray = Ray::new(Vec3::ZERO, dir);
-        objects[..3].iter().any(|o| o.hit(&ray, Real::INFINITY, &Default::default()).is_some())
+        objects[..5].iter().any(|o| o.hit(&ray, Real::INFINITY, &probe).is_some())
     };
     let mut rng = SmallRng::seed_from_u64(2);
     let n = 400_000;
-    let (mut inverse, mut grazing) = (Vec::with_capacity(n), 0);
+    let (mut inverse, mut grazing, mut mismatched) = (Vec::with_capacity(n), 0, 0);
     for _ in 0..n {
-        let sample = lights.sample(Vec3::ZERO, &mut rng).expect("the origin is outside every light");
-        let pdf = lights.pdf(Vec3::ZERO, sample.dir);
-        assert!(pdf > 0.0, "a sampled direction must have a density: {sample:?}");
-        // At the very edge of a sphere's cone a ray test may round to a miss.
-        grazing += usize::from(!lit(sample.dir));
-        inverse.push(1.0 / f64::from(pdf));
+        let sample = lights.sample(Vec3::ZERO, TIME, &mut rng).expect("the origin is outside every light");
+        let pdf = lights.pdf(Vec3::ZERO, sample.dir, TIME);
+        // At the very edge of a sphere's cone or a triangle a ray test may round to a miss.
+        let missed = !lit(sample.dir);
+        grazing += usize::from(missed);
+        // (At a sphere's grazing edge, rounding may put the direction just outside its cone.)
+        mismatched += usize::from(!missed && (sample.pdf / pdf - 1.0).abs() >= 1e-3);
+        inverse.push(1.0 / f64::from(sample.pdf));
     }
     assert!(grazing <= n / 10_000, "{grazing} of {n} sampled directions miss every light");
+    assert!(mismatched <= n / 10_000, "{mismatched} of {n} samples' densities differ from pdf's");
     let sampled = inverse.iter().sum::<f64>() / n as f64;
     let uniform = (0..4 * n).filter(|_| lit(random_unit_vector(&mut rng))).count() as f64 / (4 * n) as f64;
     let covered = uniform * 4.0 * std::f64::consts::PI;
@@ -75,4 +116,28 @@ fn sampled_directions_are_drawn_with_the_density_pdf_gives_them() {
         (sampled - covered).abs() < 5.0 * error + 1e-3 * covered,
         "E[1/pdf] {sampled}, covered {covered} ± {error}"
     );
+}
+
+#[test]
+fn a_hit_on_a_light_is_weighed_by_the_density_of_drawing_it() {
+    // For every light, a ray from the origin that meets it: `pdf_of_hit` on that hit equals
+    // the density of the direction (each light alone along it).
+    let (lights, objects) = lights();
+    let probe = Probe { time: TIME, ..Default::default() };
+    let mut rng = SmallRng::seed_from_u64(3);
+    let mut checked = 0;
+    while checked < 2_000 {
+        let sample = lights.sample(Vec3::ZERO, TIME, &mut rng).unwrap();
+        let ray = Ray::new(Vec3::ZERO, sample.dir);
+        let hits = objects[..5].iter().filter_map(|o| o.hit(&ray, Real::INFINITY, &probe));
+        let Some(hit) = hits.min_by(|a, b| a.t.total_cmp(&b.t)) else { continue };
+        let by_hit = lights.pdf_of_hit(Vec3::ZERO, &hit, glow_of(&hit), TIME);
+        assert!((by_hit / sample.pdf - 1.0).abs() < 2e-3, "pdf_of_hit {by_hit}, sample {}", sample.pdf);
+        checked += 1;
+    }
+}
+
+/// The emission of the fixture's material at `hit`.
+fn glow_of(hit: &raypool::tracer::geometry::hit::Hit) -> Vec3 {
+    if hit.material == 0 { Vec3::splat(4.0) } else { Vec3::new(20.0, 10.0, 5.0) }
 }

@@ -12,8 +12,9 @@
 //!   heuristic ([`power_heuristic`]) against the other's density, so a light found both ways
 //!   is counted once, and never with more noise than the better of the two (Veach 1997).
 //!
-//! Invariant: a light sampled here and a light met by a bounce use the same density
-//! ([`Lights::pdf`](crate::tracer::world::lights::Lights::pdf)), and a path's last ray gets no
+//! Invariant: a light's point reached by a shadow ray and the same point met by a bounce are
+//! weighed by the same density
+//! ([`Lights::pdf_of_hit`](crate::tracer::world::lights::Lights::pdf_of_hit)), and a path's last ray gets no
 //! shadow ray (it could not have met a light by bouncing either), so the three settings
 //! estimate the same image at every `max_depth`.
 
@@ -86,7 +87,7 @@ pub fn lobe_pdf(lobe: Lobe, dir: Vec3, normal: Vec3) -> Real {
 /// Next-event estimation: light arriving at `hit` (of a material that scatters by `lobe`)
 /// from a light sample, per unit albedo. One shadow ray towards a point drawn on a light; if
 /// nothing stands between (no surface, no scattering in a medium on the way), the light's
-/// emission times the lobe's factor over the light's density, weighted by the power
+/// emission times the lobe's factor over the sample's density, weighted by the power
 /// heuristic against the lobe's density. Counts the shadow ray in `rays`.
 #[inline]
 pub fn next_event<R: SampleRng + ?Sized>(
@@ -98,7 +99,7 @@ pub fn next_event<R: SampleRng + ?Sized>(
     rays: &mut u64,
 ) -> Vec3 {
     let lights = scene.lights();
-    let Some(toward) = lights.sample(hit.point, rng) else { return Vec3::ZERO };
+    let Some(toward) = lights.sample(hit.point, probe.time, rng) else { return Vec3::ZERO };
     let bsdf_pdf = lobe_pdf(lobe, toward.dir, hit.normal);
     if bsdf_pdf <= 0.0 {
         return Vec3::ZERO;
@@ -112,11 +113,13 @@ pub fn next_event<R: SampleRng + ?Sized>(
         return Vec3::ZERO;
     }
     let emitted = scene.material(&blocker).emitted(&blocker);
-    let light_pdf = lights.pdf(hit.point, toward.dir);
-    if emitted == Vec3::ZERO || light_pdf <= 0.0 {
+    if emitted == Vec3::ZERO {
         return Vec3::ZERO;
     }
-    emitted * (bsdf_pdf / light_pdf) * power_heuristic(light_pdf, bsdf_pdf)
+    // Weighed as a bounce that met this point would weigh it (`render.rs`), so the two
+    // weights of the point sum to 1.
+    let light_pdf = lights.pdf_of_hit(hit.point, &blocker, emitted, probe.time);
+    emitted * (bsdf_pdf / toward.pdf) * power_heuristic(light_pdf, bsdf_pdf)
 }
 
 /// The third book's mixture: with probability ½ the bounce's direction is replaced by one
@@ -128,16 +131,17 @@ pub fn next_event<R: SampleRng + ?Sized>(
 pub fn mixture_bounce<R: SampleRng + ?Sized>(
     lights: &Lights,
     hit: &Hit,
+    time: Real,
     lobe: Lobe,
     scatter: &mut Scatter,
     rng: &mut R,
 ) -> bool {
     if uniform(rng) < 0.5 {
-        let Some(toward) = lights.sample(hit.point, rng) else { return false };
+        let Some(toward) = lights.sample(hit.point, time, rng) else { return false };
         scatter.direction = toward.dir;
     }
     let lobe_density = lobe_pdf(lobe, scatter.direction, hit.normal);
-    let mixture = 0.5 * lights.pdf(hit.point, scatter.direction) + 0.5 * lobe_density;
+    let mixture = 0.5 * lights.pdf(hit.point, scatter.direction, time) + 0.5 * lobe_density;
     if lobe_density <= 0.0 || mixture <= 0.0 {
         return false;
     }

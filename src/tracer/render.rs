@@ -364,7 +364,7 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
             let emitted = material.emitted(&hit);
             let weight = match weighed {
                 Some((from, bsdf_pdf)) if emitted != Vec3::ZERO => {
-                    power_heuristic(bsdf_pdf, scene.lights().pdf(from, ray.dir))
+                    power_heuristic(bsdf_pdf, scene.lights().pdf_of_hit(from, &hit, emitted, start.time))
                 }
                 _ => 1.0,
             };
@@ -386,7 +386,7 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
                     weighed = Some((hit.point, lobe_pdf(lobe, scatter.direction, hit.normal)));
                 }
                 LightSampling::Mixture => {
-                    let goes_on = mixture_bounce(scene.lights(), &hit, lobe, &mut scatter, rng);
+                    let goes_on = mixture_bounce(scene.lights(), &hit, start.time, lobe, &mut scatter, rng);
                     if !goes_on {
                         return radiance;
                     }

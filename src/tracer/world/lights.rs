@@ -1,27 +1,34 @@
-//! The lights a path can aim at: every emitting quad and still sphere among a scene's
-//! top-level objects, as *Ray Tracing: The Rest of Your Life* and pbrt sample them.
+//! The lights a path can aim at: every emitting quad, triangle (of a mesh too) and sphere (a
+//! moving one where it is at the path's time), at the top level or inside instances, as *Ray
+//! Tracing: The Rest of Your Life* and pbrt sample them.
 //!
 //! - **Choice**: a light is chosen in proportion to its power (the luminance of its `emit`
-//!   times its area), so a big bright lamp gets most of the shadow rays.
-//! - **A point on it**: a quad uniformly by area (density `d²/(cos θ·A)` per solid angle); a
-//!   sphere by the cone of directions it subtends from the point (uniform in that cone, density
-//!   `1/(2π(1 − cos θmax))`), which wastes no sample on its far side.
-//! - **Density of a direction** ([`Lights::pdf`]): the sum over all lights of the choice
-//!   probability times that light's density, the exact density with which [`Lights::sample`]
-//!   draws the direction; multiple importance sampling weighs a material's sample by it.
-//!
-//! Lights inside groups or instances, moving spheres and emitting mesh triangles are not on
-//! the list: paths still find them by scattering, and since their density here is 0, the
-//! weights stay consistent (an emitter that is never aimed at keeps its whole weight when hit).
+//!   times its area), so a big bright lamp gets most of the shadow rays. Every flat light is
+//!   then drawn uniformly by area, so a point on any of them has the same density per unit
+//!   area, `luminance(emit) / total power`: a hit knows it without knowing which light it is.
+//! - **A point on it**: a quad or triangle uniformly by area (density `d²/(cos θ·A)` per
+//!   solid angle); a sphere by the cone of directions it subtends from the point (uniform in
+//!   that cone, density `1/(2π(1 − cos θmax))`), which wastes no sample on its far side.
+//! - **Densities**: a sample carries the exact density with which it was drawn, which the
+//!   shadow ray's estimate divides by. Multiple importance sampling weighs the two ways of
+//!   reaching an emitter's point by [`Lights::pdf_of_hit`], the density of drawing that very
+//!   point, computed from the hit alone so that a shadow ray and a bounce that meet the same
+//!   point weigh it the same (the weights of a point then sum to 1, and the estimate stays
+//!   unbiased). The third book's mixture needs the density of a *direction* over every light
+//!   it crosses ([`Lights::pdf`]): a sum over all lights, so its cost grows with their number.
 
 use std::f64::consts::PI;
 
 use rand::Rng;
 
+use crate::tracer::geometry::hit::Hit;
+use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::geometry::triangle;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::math::transform::Transform;
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::shading::material::Material;
 use crate::tracer::world::object::Object;
@@ -29,11 +36,14 @@ use crate::tracer::world::object::Object;
 /// π in the tracer's precision.
 const PI_REAL: Real = PI as Real;
 
-/// One light's shape.
+/// One light's shape, in world space.
 #[derive(Clone, Debug)]
 enum Shape {
     Quad(Quad),
-    Sphere(Sphere),
+    /// Corners, unit geometric normal and area.
+    Triangle([Vec3; 3], Vec3, Real),
+    /// Still spheres too, with equal end points.
+    Sphere(MovingSphere),
 }
 
 /// A direction towards a light, drawn by [`Lights::sample`].
@@ -43,6 +53,9 @@ pub struct LightSample {
     pub dir: Vec3,
     /// Distance along `dir` to the light's surface.
     pub distance: Real,
+    /// The density, per unit solid angle, with which this direction was drawn (the light's
+    /// choice included), > 0 and finite.
+    pub pdf: Real,
 }
 
 /// The scene's lights and the probabilities of choosing each.
@@ -53,10 +66,15 @@ pub struct Lights {
     chance: Vec<Real>,
     /// Running sums of `chance`, for the choice.
     running: Vec<Real>,
+    /// The sum of the lights' powers.
+    total: Real,
+    /// Which of `shapes` are spheres (a hit on one is told apart by where it lies).
+    spheres: Vec<usize>,
 }
 
 impl Lights {
-    /// The emitting quads and still spheres among `objects` (their materials in `materials`).
+    /// The emitting quads, triangles and spheres among `objects` and inside their instances
+    /// (their materials in `materials`), placed in the world.
     ///
     /// ```
     /// use raypool::tracer::geometry::quad::Quad;
@@ -68,26 +86,9 @@ impl Lights {
     /// assert_eq!(lights.len(), 1);
     /// ```
     pub fn new(objects: &[Object], materials: &[Material]) -> Lights {
-        let power = |material: u32, area: Real| match materials[material as usize] {
-            Material::DiffuseLight { emit, .. } => luminance(emit) * area,
-            _ => 0.0,
-        };
         let mut found: Vec<(Shape, Real)> = Vec::new();
-        for object in objects {
-            let light = match object {
-                Object::Quad(quad) => {
-                    (Shape::Quad(*quad), power(quad.material, quad.u.cross(quad.v).length()))
-                }
-                Object::Sphere(sphere) if sphere.radius > 0.0 => (
-                    Shape::Sphere(*sphere),
-                    power(sphere.material, 4.0 * PI_REAL * sphere.radius * sphere.radius),
-                ),
-                _ => continue,
-            };
-            if light.1 > 0.0 && light.1.is_finite() {
-                found.push(light);
-            }
-        }
+        collect(objects, &Transform::IDENTITY, materials, &mut found);
+        found.retain(|light| light.1 > 0.0 && light.1.is_finite());
         let total: Real = found.iter().map(|l| l.1).sum();
         let chance: Vec<Real> = found.iter().map(|l| l.1 / total).collect();
         let mut sum = 0.0;
@@ -96,7 +97,9 @@ impl Lights {
             sum
         });
         let running = running.collect();
-        Lights { shapes: found.into_iter().map(|l| l.0).collect(), chance, running }
+        let spheres = found.iter().enumerate().filter(|(_, l)| matches!(l.0, Shape::Sphere(_)));
+        let spheres = spheres.map(|(k, _)| k).collect();
+        Lights { shapes: found.into_iter().map(|l| l.0).collect(), chance, running, total, spheres }
     }
 
     /// Number of lights.
@@ -109,21 +112,35 @@ impl Lights {
         self.shapes.is_empty()
     }
 
-    /// A direction from `from` towards a light: three draws (the choice, then a point on it).
-    /// `None` if there is no light, or `from` is inside the chosen sphere.
+    /// A direction from `from` towards a light at `time`: three draws (the choice, then a
+    /// point on it). `None` if there is no light, `from` is inside the chosen sphere, or the
+    /// point drawn is seen exactly edge-on.
     #[inline]
-    pub fn sample<R: Rng + ?Sized>(&self, from: Vec3, rng: &mut R) -> Option<LightSample> {
+    pub fn sample<R: Rng + ?Sized>(&self, from: Vec3, time: Real, rng: &mut R) -> Option<LightSample> {
         let pick = uniform(rng);
         let (a, b) = (uniform(rng), uniform(rng));
-        let k = self.running.iter().position(|&r| pick < r).unwrap_or(self.shapes.len().checked_sub(1)?);
+        let k = self.running.partition_point(|&r| r <= pick).min(self.shapes.len().checked_sub(1)?);
+        let chance = self.chance[k];
+        let toward_area = |to: Vec3, normal: Vec3, area: Real| {
+            let distance = to.length();
+            let dir = to / distance;
+            let pdf = chance * distance * distance / (dir.dot(normal).abs() * area);
+            (distance > 0.0 && pdf > 0.0 && pdf.is_finite()).then_some(LightSample { dir, distance, pdf })
+        };
         match &self.shapes[k] {
             Shape::Quad(quad) => {
-                let to = quad.q + a * quad.u + b * quad.v - from;
-                let distance = to.length();
-                (distance > 0.0).then(|| LightSample { dir: to / distance, distance })
+                toward_area(quad.q + a * quad.u + b * quad.v - from, quad.normal(), quad_area(quad))
             }
-            Shape::Sphere(sphere) => {
-                let (axis, cos_max) = cone(sphere, from)?;
+            Shape::Triangle(p, normal, area) => {
+                // Uniform by area: the square root spreads the first number over the
+                // triangle's height (pbrt's `SampleUniformTriangle`, in its older form).
+                let r = a.sqrt();
+                let point = p[0] + (r * (1.0 - b)) * (p[1] - p[0]) + (r * b) * (p[2] - p[0]);
+                toward_area(point - from, *normal, *area)
+            }
+            Shape::Sphere(moving) => {
+                let sphere = moving.at(time);
+                let (axis, cos_max) = cone(&sphere, from)?;
                 let cos = 1.0 - a * (1.0 - cos_max);
                 let sin = (1.0 - cos * cos).max(0.0).sqrt();
                 let (s, c) = (2.0 * PI_REAL * b).sin_cos();
@@ -134,31 +151,107 @@ impl Lights {
                 let d = (sphere.center - from).length();
                 let r = sphere.radius;
                 let distance = d * cos - (r * r - d * d * sin * sin).max(0.0).sqrt();
-                Some(LightSample { dir, distance })
+                let pdf = chance / (2.0 * PI_REAL * (1.0 - cos_max));
+                Some(LightSample { dir, distance, pdf })
             }
         }
     }
 
-    /// The density, per unit solid angle, with which [`Lights::sample`] draws the unit
-    /// direction `dir` from `from` (0 where no light lies that way).
+    /// The density, per unit solid angle, with which [`Lights::sample`] from `from` at `time`
+    /// draws a point on some light along the unit direction `dir`, summed over every light
+    /// that way (0 where none lies): the third book's mixture weighs its bounce by it.
     #[inline]
-    pub fn pdf(&self, from: Vec3, dir: Vec3) -> Real {
+    pub fn pdf(&self, from: Vec3, dir: Vec3, time: Real) -> Real {
         let ray = Ray::new(from, dir);
         let mut sum = 0.0;
         for (shape, &chance) in self.shapes.iter().zip(&self.chance) {
+            let by_area = |t: Real, normal: Vec3, area: Real| t * t / (dir.dot(normal).abs() * area);
             sum += chance
                 * match shape {
-                    Shape::Quad(quad) => quad.intersect(&ray, Real::INFINITY).map_or(0.0, |(t, _, _)| {
-                        let cos = dir.dot(quad.normal()).abs();
-                        t * t / (cos * quad.u.cross(quad.v).length())
-                    }),
-                    Shape::Sphere(sphere) => cone(sphere, from).map_or(0.0, |(axis, cos_max)| {
+                    Shape::Quad(quad) => quad
+                        .intersect(&ray, Real::INFINITY)
+                        .map_or(0.0, |(t, _, _)| by_area(t, quad.normal(), quad_area(quad))),
+                    Shape::Triangle(p, normal, area) => triangle::intersect(*p, &ray, Real::INFINITY)
+                        .map_or(0.0, |found| by_area(found.t, *normal, *area)),
+                    Shape::Sphere(moving) => cone(&moving.at(time), from).map_or(0.0, |(axis, cos_max)| {
                         if dir.dot(axis) >= cos_max { 1.0 / (2.0 * PI_REAL * (1.0 - cos_max)) } else { 0.0 }
                     }),
                 };
         }
         if sum.is_finite() { sum } else { 0.0 }
     }
+
+    /// The density, per unit solid angle seen from `from`, with which [`Lights::sample`]
+    /// draws the point of `hit`, an emitter's point that gives off `emitted` (at `time`): by
+    /// the cone of the sphere light the point lies on, else by area, `luminance(emitted) /
+    /// total power · d² / cos θ`. A function of the hit alone, so that the shadow ray that
+    /// meets a point and the bounce that meets it weigh it alike (0 when not finite: the
+    /// point then counts by bouncing only, under both).
+    #[inline]
+    pub fn pdf_of_hit(&self, from: Vec3, hit: &Hit, emitted: Vec3, time: Real) -> Real {
+        for &k in &self.spheres {
+            let Shape::Sphere(moving) = &self.shapes[k] else { continue };
+            let sphere = moving.at(time);
+            let r2 = sphere.radius * sphere.radius;
+            if ((hit.point - sphere.center).length_squared() - r2).abs() <= 1e-3 * r2 {
+                return cone(&sphere, from)
+                    .map_or(0.0, |(_, cos_max)| self.chance[k] / (2.0 * PI_REAL * (1.0 - cos_max)));
+            }
+        }
+        let to = hit.point - from;
+        let d2 = to.length_squared();
+        let pdf = luminance(emitted) / self.total * d2 / (to.dot(hit.normal).abs() / d2.sqrt());
+        if pdf.is_finite() { pdf } else { 0.0 }
+    }
+}
+
+/// Appends the lights among `objects`, placed by `place`, with their powers.
+fn collect(objects: &[Object], place: &Transform, materials: &[Material], found: &mut Vec<(Shape, Real)>) {
+    let glow = |material: u32| match materials[material as usize] {
+        Material::DiffuseLight { emit, .. } => luminance(emit),
+        _ => 0.0,
+    };
+    let sphere = |moving: MovingSphere| {
+        let (center0, center1) = (place.point(moving.center0), place.point(moving.center1));
+        let power = glow(moving.material) * 4.0 * PI_REAL * moving.radius * moving.radius;
+        (Shape::Sphere(MovingSphere { center0, center1, ..moving }), power)
+    };
+    for object in objects {
+        match object {
+            Object::Sphere(s) => found.push(sphere(MovingSphere {
+                center0: s.center,
+                center1: s.center,
+                radius: s.radius,
+                material: s.material,
+            })),
+            Object::Moving(moving) => found.push(sphere(*moving)),
+            Object::Quad(quad) if glow(quad.material) > 0.0 => {
+                let placed =
+                    Quad::new(place.point(quad.q), place.vector(quad.u), place.vector(quad.v), quad.material);
+                if let Some(placed) = placed {
+                    found.push((Shape::Quad(placed), glow(quad.material) * quad_area(&placed)));
+                }
+            }
+            Object::Mesh(mesh, material) if glow(*material) > 0.0 => {
+                for k in 0..mesh.triangle_count() {
+                    let p = mesh.corners(k).map(|corner| place.point(corner));
+                    let n = (p[1] - p[0]).cross(p[2] - p[0]);
+                    let area = 0.5 * n.length();
+                    found.push((Shape::Triangle(p, n.normalize_or_zero(), area), glow(*material) * area));
+                }
+            }
+            Object::Instance(instance) => {
+                collect(instance.group.objects(), &instance.transform.then(place), materials, found)
+            }
+            // A medium's boundary gives off nothing (it is not a surface a ray meets).
+            _ => {}
+        }
+    }
+}
+
+/// A quad's area.
+fn quad_area(quad: &Quad) -> Real {
+    quad.u.cross(quad.v).length()
 }
 
 /// The cone of directions `sphere` fills as seen from `from`: its axis (unit, towards the
