@@ -119,25 +119,36 @@ fn sampled_directions_are_drawn_with_the_density_pdf_gives_them() {
 }
 
 #[test]
-fn a_hit_on_a_light_is_weighed_by_the_density_of_drawing_it() {
-    // For every light, a ray from the origin that meets it: `pdf_of_hit` on that hit equals
-    // the density of the direction (each light alone along it).
+fn a_sampled_point_is_the_point_a_ray_meets_and_is_weighed_by_its_density() {
+    // For samples of every light, the ray from the origin towards each: it meets the light at
+    // the sample's point, the sample gives off light exactly when the ray meets a front face,
+    // and `pdf_of_point` at the hit equals the sample's density (each light alone along it).
     let (lights, objects) = lights();
     let probe = Probe { time: TIME, ..Default::default() };
     let mut rng = SmallRng::seed_from_u64(3);
-    let mut checked = 0;
+    let (mut checked, mut fronts) = (0, 0);
     while checked < 2_000 {
         let sample = lights.sample(Vec3::ZERO, TIME, &mut rng).unwrap();
         let ray = Ray::new(Vec3::ZERO, sample.dir);
         let hits = objects[..5].iter().filter_map(|o| o.hit(&ray, Real::INFINITY, &probe));
         let Some(hit) = hits.min_by(|a, b| a.t.total_cmp(&b.t)) else { continue };
-        let by_hit = lights.pdf_of_hit(Vec3::ZERO, &hit, glow_of(&hit), TIME);
-        assert!((by_hit / sample.pdf - 1.0).abs() < 2e-3, "pdf_of_hit {by_hit}, sample {}", sample.pdf);
+        assert!(
+            (hit.point - sample.point).length() < 1e-4,
+            "met {:?}, sampled {:?}",
+            hit.point,
+            sample.point
+        );
+        assert_eq!(sample.emitted != Vec3::ZERO, hit.front_face, "{sample:?}");
+        let emitted = glow_of(&hit);
+        let by_hit = lights.pdf_of_point(Vec3::ZERO, hit.point, hit.normal, emitted, TIME);
+        assert!((by_hit / sample.pdf - 1.0).abs() < 2e-3, "pdf_of_point {by_hit}, sample {}", sample.pdf);
         checked += 1;
+        fronts += usize::from(hit.front_face);
     }
+    assert!((100..1_900).contains(&fronts), "{fronts} of 2,000 samples on a front face: both sides tried");
 }
 
-/// The emission of the fixture's material at `hit`.
+/// The emission of the fixture's material at `hit`, front or back.
 fn glow_of(hit: &raypool::tracer::geometry::hit::Hit) -> Vec3 {
     if hit.material == 0 { Vec3::splat(4.0) } else { Vec3::new(20.0, 10.0, 5.0) }
 }

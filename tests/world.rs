@@ -477,3 +477,45 @@ fn lights_inside_instances_mesh_triangles_and_moving_lights_are_aimed_at_without
     assert_eq!(scene.lights().len(), 4, "the group's quad and triangle, the triangle, the sphere");
     assert_the_three_light_samplings_agree("room", &text);
 }
+
+#[test]
+fn a_shadow_rays_search_finds_a_blocker_exactly_when_the_closest_hit_search_finds_one_nearer() {
+    // `Scene::occluded` (ends at the first object found) against the closest hit, on rays
+    // from points all over each scene, with search bounds around the hit's distance: through
+    // instances, meshes, media (with each ray's own medium numbers) and moving spheres.
+    use rand::{SeedableRng, rngs::SmallRng};
+    use raypool::tracer::sampling::warp::uniform;
+    for name in ["cornell", "cornell-smoke", "next-week", "mesh", "bouncing"] {
+        let scene = raypool::scenes::builtin::builtin_scene(name, 0).unwrap().to_scene();
+        use raypool::tracer::math::aabb::{Aabb, Bounded};
+        let bounds = scene.objects().iter().map(Bounded::bounds).fold(Aabb::EMPTY, Aabb::union);
+        let mut rng = SmallRng::seed_from_u64(7);
+        let (mut blocked, n) = (0u64, 20_000u64);
+        for k in 0..n {
+            let lerp = |a: Real, b: Real, t: Real| a + (b - a) * t;
+            let from = Vec3::new(
+                lerp(bounds.min.x, bounds.max.x, uniform(&mut rng)),
+                lerp(bounds.min.y, bounds.max.y, uniform(&mut rng)),
+                lerp(bounds.min.z, bounds.max.z, uniform(&mut rng)),
+            );
+            let ray = Ray::new(from, raypool::tracer::sampling::warp::random_unit_vector(&mut rng));
+            let probe = Probe { time: uniform(&mut rng), medium_seed: k };
+            let nearest = scene.hit_world(&ray, &probe).map(|hit| hit.t);
+            let t_max = match nearest {
+                Some(t) if k % 2 == 0 => t * if k % 4 == 0 { 1.001 } else { 0.999 },
+                _ => uniform(&mut rng) * 1_000.0,
+            };
+            let expected = nearest.is_some_and(|t| t < t_max);
+            assert_eq!(
+                scene.occluded(&ray, t_max, &probe),
+                expected,
+                "{name}: ray {k} {ray:?}, bound {t_max}"
+            );
+            blocked += u64::from(expected);
+        }
+        assert!(
+            blocked >= n / 50 && blocked <= n * 49 / 50,
+            "{name}: {blocked} of {n} blocked: both answers tried"
+        );
+    }
+}

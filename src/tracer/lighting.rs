@@ -14,7 +14,7 @@
 //!
 //! Invariant: a light's point reached by a shadow ray and the same point met by a bounce are
 //! weighed by the same density
-//! ([`Lights::pdf_of_hit`](crate::tracer::world::lights::Lights::pdf_of_hit)), and a path's last ray gets no
+//! ([`Lights::pdf_of_point`](crate::tracer::world::lights::Lights::pdf_of_point)), and a path's last ray gets no
 //! shadow ray (it could not have met a light by bouncing either), so the three settings
 //! estimate the same image at every `max_depth`.
 
@@ -85,9 +85,9 @@ pub fn lobe_pdf(lobe: Lobe, dir: Vec3, normal: Vec3) -> Real {
 }
 
 /// Next-event estimation: light arriving at `hit` (of a material that scatters by `lobe`)
-/// from a light sample, per unit albedo. One shadow ray towards a point drawn on a light; if
-/// nothing stands between (no surface, no scattering in a medium on the way), the light's
-/// emission times the lobe's factor over the sample's density, weighted by the power
+/// from a light sample, per unit albedo. One shadow ray towards a point drawn on a light's
+/// front; if nothing stands between (no surface, no scattering in a medium on the way), the
+/// light's emission times the lobe's factor over the sample's density, weighted by the power
 /// heuristic against the lobe's density. Counts the shadow ray in `rays`.
 #[inline]
 pub fn next_event<R: SampleRng + ?Sized>(
@@ -100,26 +100,20 @@ pub fn next_event<R: SampleRng + ?Sized>(
 ) -> Vec3 {
     let lights = scene.lights();
     let Some(toward) = lights.sample(hit.point, probe.time, rng) else { return Vec3::ZERO };
-    let bsdf_pdf = lobe_pdf(lobe, toward.dir, hit.normal);
-    if bsdf_pdf <= 0.0 {
+    let factor = lobe_pdf(lobe, toward.dir, hit.normal);
+    if factor <= 0.0 || toward.emitted == Vec3::ZERO {
         return Vec3::ZERO;
     }
     *rays += 1;
-    let shadow = hit.spawn(toward.dir);
-    // Visible if the first thing the shadow ray meets is an emitter, no nearer than the
-    // light's point (less a thousandth, for the spawn offset and rounding).
-    let Some(blocker) = scene.hit_world(&shadow, &probe) else { return Vec3::ZERO };
-    if blocker.t < 0.999 * toward.distance {
-        return Vec3::ZERO;
-    }
-    let emitted = scene.material(&blocker).emitted(&blocker);
-    if emitted == Vec3::ZERO {
+    // Visible if nothing stands between, up to the light's point less a thousandth (for the
+    // spawn offset and rounding): any blocker will do, so the search ends at the first.
+    if scene.occluded(&hit.spawn(toward.dir), 0.999 * toward.distance, &probe) {
         return Vec3::ZERO;
     }
     // Weighed as a bounce that met this point would weigh it (`render.rs`), so the two
     // weights of the point sum to 1.
-    let light_pdf = lights.pdf_of_hit(hit.point, &blocker, emitted, probe.time);
-    emitted * (bsdf_pdf / toward.pdf) * power_heuristic(light_pdf, bsdf_pdf)
+    let light_pdf = lights.pdf_of_point(hit.point, toward.point, toward.normal, toward.emitted, probe.time);
+    toward.emitted * (factor / toward.pdf) * power_heuristic(light_pdf, factor)
 }
 
 /// The third book's mixture: with probability ½ the bounce's direction is replaced by one

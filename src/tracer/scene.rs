@@ -278,6 +278,12 @@ impl Scene {
         self.objects.hit(ray, Real::INFINITY, probe)
     }
 
+    /// Whether anything in a second-book scene is hit along `ray` in `(0, t_max)`.
+    #[inline]
+    pub fn occluded(&self, ray: &Ray, t_max: Real, probe: &Probe) -> bool {
+        self.objects.occludes(ray, t_max, probe)
+    }
+
     /// The emitters paths can aim at.
     pub fn lights(&self) -> &Lights {
         &self.lights

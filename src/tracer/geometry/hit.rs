@@ -63,6 +63,13 @@ impl Closest {
         }
     }
 
+    /// Rules out everything a search has left (an any-hit search that found its answer): no
+    /// box is entered before a negative distance.
+    #[inline]
+    pub fn rule_out_rest(&mut self) {
+        *self = Closest { t: -1.0, index: self.index, bound: -1.0 };
+    }
+
     /// `(index, t)` of the hit, if any.
     pub fn found(&self) -> Option<(usize, Real)> {
         (self.index != u32::MAX).then_some((self.index as usize, self.t))

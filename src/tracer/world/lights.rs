@@ -11,9 +11,9 @@
 //!   that cone, density `1/(2π(1 − cos θmax))`), which wastes no sample on its far side.
 //! - **Densities**: a sample carries the exact density with which it was drawn, which the
 //!   shadow ray's estimate divides by. Multiple importance sampling weighs the two ways of
-//!   reaching an emitter's point by [`Lights::pdf_of_hit`], the density of drawing that very
-//!   point, computed from the hit alone so that a shadow ray and a bounce that meet the same
-//!   point weigh it the same (the weights of a point then sum to 1, and the estimate stays
+//!   reaching an emitter's point by [`Lights::pdf_of_point`], the density of drawing that very
+//!   point, computed from the point alone so that a shadow ray and a bounce that reach the
+//!   same point weigh it the same (the weights of a point then sum to 1, and the estimate stays
 //!   unbiased). The third book's mixture needs the density of a *direction* over every light
 //!   it crosses ([`Lights::pdf`]): a sum over all lights, so its cost grows with their number.
 
@@ -21,7 +21,6 @@ use std::f64::consts::PI;
 
 use rand::Rng;
 
-use crate::tracer::geometry::hit::Hit;
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::sphere::Sphere;
@@ -46,7 +45,7 @@ enum Shape {
     Sphere(MovingSphere),
 }
 
-/// A direction towards a light, drawn by [`Lights::sample`].
+/// A point on a light drawn by [`Lights::sample`], and the direction towards it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LightSample {
     /// Unit direction from the shading point.
@@ -56,6 +55,13 @@ pub struct LightSample {
     /// The density, per unit solid angle, with which this direction was drawn (the light's
     /// choice included), > 0 and finite.
     pub pdf: Real,
+    /// The point on the light.
+    pub point: Vec3,
+    /// The light's unit geometric normal there.
+    pub normal: Vec3,
+    /// What the point gives off towards the shading point (zero from behind: a light emits
+    /// from its front only).
+    pub emitted: Vec3,
 }
 
 /// The scene's lights and the probabilities of choosing each.
@@ -64,6 +70,8 @@ pub struct Lights {
     shapes: Vec<Shape>,
     /// Probability of choosing each light (summing to 1).
     chance: Vec<Real>,
+    /// What each light gives off from its front.
+    emit: Vec<Vec3>,
     /// Running sums of `chance`, for the choice.
     running: Vec<Real>,
     /// The sum of the lights' powers.
@@ -86,7 +94,7 @@ impl Lights {
     /// assert_eq!(lights.len(), 1);
     /// ```
     pub fn new(objects: &[Object], materials: &[Material]) -> Lights {
-        let mut found: Vec<(Shape, Real)> = Vec::new();
+        let mut found: Vec<(Shape, Real, Vec3)> = Vec::new();
         collect(objects, &Transform::IDENTITY, materials, &mut found);
         found.retain(|light| light.1 > 0.0 && light.1.is_finite());
         let total: Real = found.iter().map(|l| l.1).sum();
@@ -99,7 +107,8 @@ impl Lights {
         let running = running.collect();
         let spheres = found.iter().enumerate().filter(|(_, l)| matches!(l.0, Shape::Sphere(_)));
         let spheres = spheres.map(|(k, _)| k).collect();
-        Lights { shapes: found.into_iter().map(|l| l.0).collect(), chance, running, total, spheres }
+        let emit = found.iter().map(|l| l.2).collect();
+        Lights { shapes: found.into_iter().map(|l| l.0).collect(), chance, emit, running, total, spheres }
     }
 
     /// Number of lights.
@@ -120,23 +129,28 @@ impl Lights {
         let pick = uniform(rng);
         let (a, b) = (uniform(rng), uniform(rng));
         let k = self.running.partition_point(|&r| r <= pick).min(self.shapes.len().checked_sub(1)?);
-        let chance = self.chance[k];
-        let toward_area = |to: Vec3, normal: Vec3, area: Real| {
+        let (chance, emit) = (self.chance[k], self.emit[k]);
+        let toward_area = |point: Vec3, normal: Vec3, area: Real| {
+            let to = point - from;
             let distance = to.length();
             let dir = to / distance;
-            let pdf = chance * distance * distance / (dir.dot(normal).abs() * area);
-            (distance > 0.0 && pdf > 0.0 && pdf.is_finite()).then_some(LightSample { dir, distance, pdf })
+            let cos = dir.dot(normal);
+            let pdf = chance * distance * distance / (cos.abs() * area);
+            // From its front (the direction against the normal), as `Quad::hit_at` decides.
+            let emitted = if cos < 0.0 { emit } else { Vec3::ZERO };
+            let sample = LightSample { dir, distance, pdf, point, normal, emitted };
+            (distance > 0.0 && pdf > 0.0 && pdf.is_finite()).then_some(sample)
         };
         match &self.shapes[k] {
             Shape::Quad(quad) => {
-                toward_area(quad.q + a * quad.u + b * quad.v - from, quad.normal(), quad_area(quad))
+                toward_area(quad.q + a * quad.u + b * quad.v, quad.normal(), quad_area(quad))
             }
             Shape::Triangle(p, normal, area) => {
                 // Uniform by area: the square root spreads the first number over the
                 // triangle's height (pbrt's `SampleUniformTriangle`, in its older form).
                 let r = a.sqrt();
                 let point = p[0] + (r * (1.0 - b)) * (p[1] - p[0]) + (r * b) * (p[2] - p[0]);
-                toward_area(point - from, *normal, *area)
+                toward_area(point, *normal, *area)
             }
             Shape::Sphere(moving) => {
                 let sphere = moving.at(time);
@@ -152,7 +166,11 @@ impl Lights {
                 let r = sphere.radius;
                 let distance = d * cos - (r * r - d * d * sin * sin).max(0.0).sqrt();
                 let pdf = chance / (2.0 * PI_REAL * (1.0 - cos_max));
-                Some(LightSample { dir, distance, pdf })
+                let point = from + distance * dir;
+                let normal = (point - sphere.center) / r;
+                // Seen from outside: the front of a sphere, the back of an inward shell.
+                let emitted = if r > 0.0 { emit } else { Vec3::ZERO };
+                Some(LightSample { dir, distance, pdf, point, normal, emitted })
             }
         }
     }
@@ -182,39 +200,45 @@ impl Lights {
     }
 
     /// The density, per unit solid angle seen from `from`, with which [`Lights::sample`]
-    /// draws the point of `hit`, an emitter's point that gives off `emitted` (at `time`): by
-    /// the cone of the sphere light the point lies on, else by area, `luminance(emitted) /
-    /// total power · d² / cos θ`. A function of the hit alone, so that the shadow ray that
-    /// meets a point and the bounce that meets it weigh it alike (0 when not finite: the
-    /// point then counts by bouncing only, under both).
+    /// draws the point `point` of an emitter (normal `normal`, at `time`) that gives off
+    /// `emitted`: by the cone of the sphere light the point lies on, else by area,
+    /// `luminance(emitted) / total power · d² / cos θ`. A function of the point alone, so that
+    /// the shadow ray that reaches a point and the bounce that meets it weigh it alike (0 when
+    /// not finite: the point then counts by bouncing only, under both).
     #[inline]
-    pub fn pdf_of_hit(&self, from: Vec3, hit: &Hit, emitted: Vec3, time: Real) -> Real {
+    pub fn pdf_of_point(&self, from: Vec3, point: Vec3, normal: Vec3, emitted: Vec3, time: Real) -> Real {
         for &k in &self.spheres {
             let Shape::Sphere(moving) = &self.shapes[k] else { continue };
             let sphere = moving.at(time);
             let r2 = sphere.radius * sphere.radius;
-            if ((hit.point - sphere.center).length_squared() - r2).abs() <= 1e-3 * r2 {
+            if ((point - sphere.center).length_squared() - r2).abs() <= 1e-3 * r2 {
                 return cone(&sphere, from)
                     .map_or(0.0, |(_, cos_max)| self.chance[k] / (2.0 * PI_REAL * (1.0 - cos_max)));
             }
         }
-        let to = hit.point - from;
+        let to = point - from;
         let d2 = to.length_squared();
-        let pdf = luminance(emitted) / self.total * d2 / (to.dot(hit.normal).abs() / d2.sqrt());
+        let pdf = luminance(emitted) / self.total * d2 / (to.dot(normal).abs() / d2.sqrt());
         if pdf.is_finite() { pdf } else { 0.0 }
     }
 }
 
 /// Appends the lights among `objects`, placed by `place`, with their powers.
-fn collect(objects: &[Object], place: &Transform, materials: &[Material], found: &mut Vec<(Shape, Real)>) {
-    let glow = |material: u32| match materials[material as usize] {
-        Material::DiffuseLight { emit, .. } => luminance(emit),
-        _ => 0.0,
+fn collect(
+    objects: &[Object],
+    place: &Transform,
+    materials: &[Material],
+    found: &mut Vec<(Shape, Real, Vec3)>,
+) {
+    let emit = |material: u32| match materials[material as usize] {
+        Material::DiffuseLight { emit, .. } => emit,
+        _ => Vec3::ZERO,
     };
+    let glow = |material: u32| luminance(emit(material));
     let sphere = |moving: MovingSphere| {
         let (center0, center1) = (place.point(moving.center0), place.point(moving.center1));
         let power = glow(moving.material) * 4.0 * PI_REAL * moving.radius * moving.radius;
-        (Shape::Sphere(MovingSphere { center0, center1, ..moving }), power)
+        (Shape::Sphere(MovingSphere { center0, center1, ..moving }), power, emit(moving.material))
     };
     for object in objects {
         match object {
@@ -229,7 +253,8 @@ fn collect(objects: &[Object], place: &Transform, materials: &[Material], found:
                 let placed =
                     Quad::new(place.point(quad.q), place.vector(quad.u), place.vector(quad.v), quad.material);
                 if let Some(placed) = placed {
-                    found.push((Shape::Quad(placed), glow(quad.material) * quad_area(&placed)));
+                    let power = glow(quad.material) * quad_area(&placed);
+                    found.push((Shape::Quad(placed), power, emit(quad.material)));
                 }
             }
             Object::Mesh(mesh, material) if glow(*material) > 0.0 => {
@@ -237,7 +262,8 @@ fn collect(objects: &[Object], place: &Transform, materials: &[Material], found:
                     let p = mesh.corners(k).map(|corner| place.point(corner));
                     let n = (p[1] - p[0]).cross(p[2] - p[0]);
                     let area = 0.5 * n.length();
-                    found.push((Shape::Triangle(p, n.normalize_or_zero(), area), glow(*material) * area));
+                    let triangle = Shape::Triangle(p, n.normalize_or_zero(), area);
+                    found.push((triangle, glow(*material) * area, emit(*material)));
                 }
             }
             Object::Instance(instance) => {

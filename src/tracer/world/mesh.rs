@@ -156,6 +156,22 @@ impl Mesh {
         Some((k, TriangleHit { t, barycentric }))
     }
 
+    /// Whether any triangle is hit in `(0, t_max)`: the search ends at the first found.
+    #[inline]
+    pub fn occludes(&self, ray: &Ray, t_max: Real) -> bool {
+        let mut closest = Closest::none(t_max);
+        let mut found = false;
+        let frame = RayFrame::new(ray);
+        self.tree.traverse(ray, &mut closest, |leaf, closest| {
+            if leaf.into_iter().any(|k| triangle::intersect_in(&frame, self.corners(k), ray, t_max).is_some())
+            {
+                found = true;
+                closest.rule_out_rest();
+            }
+        });
+        found
+    }
+
     /// The nearest hit in `(0, t_max)`, with `material`.
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real, material: u32) -> Option<Hit> {

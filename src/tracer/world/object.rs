@@ -75,6 +75,22 @@ impl Object {
         }
     }
 
+    /// Whether anything of it is hit in `(0, t_max)` (a shadow ray's question: which hit is
+    /// nearest does not matter, so a search may end at the first).
+    #[inline]
+    pub fn occludes(&self, ray: &Ray, t_max: Real, probe: &Probe) -> bool {
+        match self {
+            Object::Sphere(sphere) => sphere.intersect(ray, t_max).is_some(),
+            Object::Moving(moving) => moving.at(probe.time).intersect(ray, t_max).is_some(),
+            Object::Quad(quad) => quad.intersect(ray, t_max).is_some(),
+            Object::Mesh(mesh, _) => mesh.occludes(ray, t_max),
+            Object::Instance(instance) => {
+                instance.group.occludes(&instance.transform.inverse_ray(ray), t_max, probe)
+            }
+            Object::Medium(medium) => medium.hit(ray, t_max, probe).is_some(),
+        }
+    }
+
     /// The materials this object's surfaces use.
     pub fn materials(&self, out: &mut Vec<u32>) {
         match self {
@@ -209,6 +225,26 @@ impl Group {
             }
         }
         best
+    }
+}
+
+impl Group {
+    /// Whether anything in the group is hit in `(0, t_max)`: the search ends at the first
+    /// object found (pbrt's `IntersectP`, Embree's `rtcOccluded`).
+    #[inline]
+    pub fn occludes(&self, ray: &Ray, t_max: Real, probe: &Probe) -> bool {
+        let Some(tree) = &self.tree else {
+            return self.objects.iter().any(|o| o.occludes(ray, t_max, probe));
+        };
+        let mut closest = Closest::none(t_max);
+        let mut found = false;
+        tree.traverse(ray, &mut closest, |leaf, closest| {
+            if leaf.into_iter().any(|i| self.objects[i].occludes(ray, t_max, probe)) {
+                found = true;
+                closest.rule_out_rest();
+            }
+        });
+        found
     }
 }
 
