@@ -519,3 +519,57 @@ fn a_shadow_rays_search_finds_a_blocker_exactly_when_the_closest_hit_search_find
         );
     }
 }
+
+#[test]
+fn rays_grazing_quad_edges_find_the_same_hits_through_a_tree_as_one_by_one() {
+    // A quad accepts hits a few ulps past its edges (`quad::EDGE`); its box in a tree must
+    // reach as far, or `--accel flat` finds hits a tree skips (seen on `cornell`'s walls).
+    use rand::{SeedableRng, rngs::SmallRng};
+    use raypool::tracer::geometry::quad::{EDGE, Quad, box_faces};
+    use raypool::tracer::sampling::warp::uniform;
+    use raypool::tracer::world::object::{Group, Object};
+    let wall = |q: [f32; 3], u: [f32; 3], v: [f32; 3]| {
+        let r = |a: [f32; 3]| Vec3::new(a[0] as Real, a[1] as Real, a[2] as Real);
+        Quad::new(r(q), r(u), r(v), 0).unwrap()
+    };
+    let mut quads = vec![
+        wall([555.0, 0.0, 0.0], [0.0, 555.0, 0.0], [0.0, 0.0, 555.0]),
+        wall([0.0, 0.0, 555.0], [0.0, 555.0, 0.0], [0.0, 0.0, -555.0]),
+        wall([0.0, 0.0, 0.0], [0.0, 0.0, 555.0], [555.0, 0.0, 0.0]),
+        wall([555.0, 555.0, 555.0], [-555.0, 0.0, 0.0], [0.0, 0.0, -555.0]),
+        wall([0.0, 0.0, 555.0], [555.0, 0.0, 0.0], [0.0, 555.0, 0.0]),
+        wall([213.0, 554.0, 227.0], [130.0, 0.0, 0.0], [0.0, 0.0, 105.0]),
+    ];
+    let (a, b) = (Vec3::new(130.0, 0.0, 65.0), Vec3::new(295.0, 165.0, 230.0));
+    quads.extend(box_faces(a, b, 0).unwrap());
+    let objects: Vec<Object> = quads.iter().map(|&q| Object::Quad(q)).collect();
+    let tree = Group::with_tree(objects.clone(), true);
+    let flat = Group::with_tree(tree.objects().to_vec(), false);
+    assert!(tree.has_tree() && !flat.has_tree());
+    let mut rng = SmallRng::seed_from_u64(11);
+    let mut grazing = 0;
+    for quad in &quads {
+        for k in 0..2_000 {
+            // A point on or just past one of the four edges, seen from a random point.
+            let along = uniform(&mut rng);
+            let past = [-0.9, -0.5, 0.0, 0.5][k % 4] * EDGE;
+            let (alpha, beta) = match (k / 4) % 4 {
+                0 => (past, along),
+                1 => (1.0 - past, along),
+                2 => (along, past),
+                _ => (along, 1.0 - past),
+            };
+            let target = quad.q + alpha * quad.u + beta * quad.v;
+            let from = Vec3::new(uniform(&mut rng), uniform(&mut rng), uniform(&mut rng)) * 1_200.0
+                - Vec3::splat(300.0);
+            let Some(dir) = (target - from).try_normalize() else { continue };
+            let ray = Ray::new(from, dir);
+            let probe = Probe::default();
+            let (a, b) = (tree.hit(&ray, Real::INFINITY, &probe), flat.hit(&ray, Real::INFINITY, &probe));
+            let key = |h: Option<raypool::tracer::geometry::hit::Hit>| h.map(|h| (h.t, h.point, h.normal));
+            assert_eq!(key(a), key(b), "ray {ray:?} at α {alpha}, β {beta}");
+            grazing += usize::from(past < 0.0 && a.is_some());
+        }
+    }
+    assert!(grazing > 1_000, "only {grazing} rays past an edge hit anything");
+}

@@ -114,10 +114,14 @@ impl Quad {
 
 impl Bounded for Quad {
     /// The corners' box, padded as a sphere's is (a quad in an axis plane has a flat box,
-    /// which rounding could otherwise make a ray skip).
+    /// which rounding could otherwise make a ray skip), and by how far past its edges
+    /// [`Quad::intersect`] accepts a hit ([`EDGE`] of each side): otherwise a ray that grazes
+    /// an edge would hit the quad when tested directly but miss its box in a tree, and
+    /// `--accel flat` would change pixels.
     fn bounds(&self) -> Aabb {
         let corners = self.corners().iter().fold(Aabb::EMPTY, |b, &c| b.grow(c));
-        corners.padded(0.25 * self.spawn_offset())
+        let past_edges = EDGE * (self.u.abs() + self.v.abs()).max_element();
+        corners.padded(0.25 * self.spawn_offset() + past_edges)
     }
 
     fn centroid(&self) -> Vec3 {
