@@ -458,13 +458,11 @@ fn the_three_light_samplings_converge_to_the_same_image() {
     }
 }
 
-#[test]
-fn lights_inside_instances_mesh_triangles_and_moving_lights_are_aimed_at_without_bias() {
-    // A white room lit by a quad and a triangle inside a turned, moved group, a triangle at
-    // the top level and a sphere that moves during the shutter: all four are lights, and the
-    // three estimators still agree.
+/// A white room lit by a quad and a triangle inside a turned, moved group, a triangle at the
+/// top level and a sphere that moves during the shutter.
+fn lit_room() -> String {
     let lamp = "{ kind = \"diffuse_light\", emit = [3.0, 3.0, 3.0] }";
-    let text = format!(
+    format!(
         "{CAMERA}[background]\nkind = \"black\"\n{room}\
          [[triangle]]\nvertices = [[-0.8, -0.8, -0.95], [-0.4, -0.8, -0.95], [-0.6, -0.4, -0.95]]\nmaterial = {lamp}\n\
          [[sphere]]\ncenter = [0.5, -0.6, -0.5]\ncenter1 = [0.7, -0.6, -0.3]\nradius = 0.15\nmaterial = {lamp}\n\
@@ -472,7 +470,13 @@ fn lights_inside_instances_mesh_triangles_and_moving_lights_are_aimed_at_without
          [[group.quad]]\nq = [-0.3, 0.0, -0.3]\nu = [0.6, 0.0, 0.0]\nv = [0.0, 0.0, 0.6]\nmaterial = {lamp}\n\
          [[group.triangle]]\nvertices = [[0.5, -0.5, -0.2], [0.5, -0.5, 0.2], [0.5, -0.1, 0.0]]\nmaterial = {lamp}\n",
         room = inward_cube("{ kind = \"lambertian\", albedo = [0.7, 0.7, 0.7] }"),
-    );
+    )
+}
+
+#[test]
+fn lights_inside_instances_mesh_triangles_and_moving_lights_are_aimed_at_without_bias() {
+    // All four lights of the room are lights, and the three estimators still agree.
+    let text = lit_room();
     let scene = SceneFile::parse(&text, "test.toml").unwrap_or_else(|e| panic!("{e}")).to_scene();
     assert_eq!(scene.lights().len(), 4, "the group's quad and triangle, the triangle, the sphere");
     assert_the_three_light_samplings_agree("room", &text);
@@ -572,4 +576,39 @@ fn rays_grazing_quad_edges_find_the_same_hits_through_a_tree_as_one_by_one() {
         }
     }
     assert!(grazing > 1_000, "only {grazing} rays past an edge hit anything");
+}
+
+#[test]
+fn the_lit_room_renders_the_same_pixels_whatever_the_tiles_and_their_order() {
+    // What every mode, thread count and shard relies on, on the lights found inside groups,
+    // meshes and motion: a pixel's value depends on its own samples only. The whole image
+    // against 3 × 3 tiles rendered last to first, under each light sampling and sampler.
+    use raypool::tracer::sampling::independent::PerSample;
+    for light_sampling in [LightSampling::Bsdf, LightSampling::Mixture, LightSampling::Mis] {
+        let scene = SceneFile::parse(&lit_room(), "test.toml").unwrap_or_else(|e| panic!("{e}")).to_scene();
+        let settings =
+            RenderSettings { width: 24, height: 24, spp: 8, seed: 5, light_sampling, ..Default::default() };
+        let job = RenderJob::new(scene, settings);
+        for sobol in [true, false] {
+            let render = |tile: Tile| {
+                if sobol {
+                    render_tile(&job, &SobolStreams::new(5), tile).pixels
+                } else {
+                    render_tile(&job, &PerSample { seed: 5 }, tile).pixels
+                }
+            };
+            let whole = render(Tile { x: 0, y: 0, width: 24, height: 24 });
+            assert!(whole.iter().any(|p| *p != Vec3::ZERO), "the room is lit");
+            for k in (0..9u32).rev() {
+                let tile = Tile { x: (k % 3) * 8, y: (k / 3) * 8, width: 8, height: 8 };
+                for (j, p) in render(tile).iter().enumerate() {
+                    let (x, y) = (tile.x + j as u32 % 8, tile.y + j as u32 / 8);
+                    assert!(
+                        *p == whole[(y * 24 + x) as usize],
+                        "{light_sampling:?}, sobol {sobol}: pixel {x}, {y}"
+                    );
+                }
+            }
+        }
+    }
 }
