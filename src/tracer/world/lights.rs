@@ -15,22 +15,30 @@
 //!   point, computed from the point alone so that a shadow ray and a bounce that reach the
 //!   same point weigh it the same (the weights of a point then sum to 1, and the estimate stays
 //!   unbiased). The third book's mixture needs the density of a *direction* over every light
-//!   it crosses ([`Lights::pdf`]): a sum over all lights, so its cost grows with their number.
+//!   it crosses ([`Lights::pdf`]): a sum over the lights whose boxes the direction enters,
+//!   found through a four-wide tree of them (as a group's objects are) once there are six.
 
 use std::f64::consts::PI;
 
 use rand::Rng;
 
+use crate::tracer::accel::bvh::Bvh;
+use crate::tracer::accel::wide::WideBvh;
+use crate::tracer::geometry::hit::Closest;
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::geometry::triangle;
+use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::shading::material::Material;
-use crate::tracer::world::object::Object;
+use crate::tracer::world::object::{Object, TREE_MIN_OBJECTS};
+
+/// Lights per leaf of the lights' tree.
+const LEAF: usize = 4;
 
 /// π in the tracer's precision.
 const PI_REAL: Real = PI as Real;
@@ -78,6 +86,10 @@ pub struct Lights {
     total: Real,
     /// Which of `shapes` are spheres (a hit on one is told apart by where it lies).
     spheres: Vec<usize>,
+    /// A four-wide tree over the lights' boxes, once there are enough of them: the mixture's
+    /// density visits only the lights a direction can meet (an emitting mesh may hold
+    /// thousands).
+    tree: Option<WideBvh>,
 }
 
 impl Lights {
@@ -97,6 +109,11 @@ impl Lights {
         let mut found: Vec<(Shape, Real, Vec3)> = Vec::new();
         collect(objects, &Transform::IDENTITY, materials, &mut found);
         found.retain(|light| light.1 > 0.0 && light.1.is_finite());
+        // The tree reorders the lights; every list below follows its order.
+        let tree = (found.len() >= TREE_MIN_OBJECTS).then(|| {
+            let binary = Bvh::build_with_leaves(&mut found, LEAF);
+            WideBvh::collapse_plain(&binary, found.len())
+        });
         let total: Real = found.iter().map(|l| l.1).sum();
         let chance: Vec<Real> = found.iter().map(|l| l.1 / total).collect();
         let mut sum = 0.0;
@@ -108,7 +125,15 @@ impl Lights {
         let spheres = found.iter().enumerate().filter(|(_, l)| matches!(l.0, Shape::Sphere(_)));
         let spheres = spheres.map(|(k, _)| k).collect();
         let emit = found.iter().map(|l| l.2).collect();
-        Lights { shapes: found.into_iter().map(|l| l.0).collect(), chance, emit, running, total, spheres }
+        Lights {
+            shapes: found.into_iter().map(|l| l.0).collect(),
+            chance,
+            emit,
+            running,
+            total,
+            spheres,
+            tree,
+        }
     }
 
     /// Number of lights.
@@ -182,21 +207,32 @@ impl Lights {
     pub fn pdf(&self, from: Vec3, dir: Vec3, time: Real) -> Real {
         let ray = Ray::new(from, dir);
         let mut sum = 0.0;
-        for (shape, &chance) in self.shapes.iter().zip(&self.chance) {
-            let by_area = |t: Real, normal: Vec3, area: Real| t * t / (dir.dot(normal).abs() * area);
-            sum += chance
-                * match shape {
-                    Shape::Quad(quad) => quad
-                        .intersect(&ray, Real::INFINITY)
-                        .map_or(0.0, |(t, _, _)| by_area(t, quad.normal(), quad_area(quad))),
-                    Shape::Triangle(p, normal, area) => triangle::intersect(*p, &ray, Real::INFINITY)
-                        .map_or(0.0, |found| by_area(found.t, *normal, *area)),
-                    Shape::Sphere(moving) => cone(&moving.at(time), from).map_or(0.0, |(axis, cos_max)| {
-                        if dir.dot(axis) >= cos_max { 1.0 / (2.0 * PI_REAL * (1.0 - cos_max)) } else { 0.0 }
-                    }),
-                };
+        let mut add = |k: usize| sum += self.chance[k] * self.density_along(k, &ray, time);
+        match &self.tree {
+            None => (0..self.shapes.len()).for_each(&mut add),
+            // Nothing is offered to the search's bound, so every box the ray enters is visited.
+            Some(tree) => {
+                tree.traverse(&ray, &mut Closest::none(Real::INFINITY), |leaf, _| leaf.for_each(&mut add))
+            }
         }
         if sum.is_finite() { sum } else { 0.0 }
+    }
+
+    /// The density, per unit solid angle, with which light `k` alone is drawn along `ray`
+    /// (from its origin, in its unit direction) at `time`; 0 if the ray misses it.
+    #[inline]
+    fn density_along(&self, k: usize, ray: &Ray, time: Real) -> Real {
+        let by_area = |t: Real, normal: Vec3, area: Real| t * t / (ray.dir.dot(normal).abs() * area);
+        match &self.shapes[k] {
+            Shape::Quad(quad) => quad
+                .intersect(ray, Real::INFINITY)
+                .map_or(0.0, |(t, _, _)| by_area(t, quad.normal(), quad_area(quad))),
+            Shape::Triangle(p, normal, area) => triangle::intersect(*p, ray, Real::INFINITY)
+                .map_or(0.0, |found| by_area(found.t, *normal, *area)),
+            Shape::Sphere(moving) => cone(&moving.at(time), ray.origin).map_or(0.0, |(axis, cos_max)| {
+                if ray.dir.dot(axis) >= cos_max { 1.0 / (2.0 * PI_REAL * (1.0 - cos_max)) } else { 0.0 }
+            }),
+        }
     }
 
     /// The density, per unit solid angle seen from `from`, with which [`Lights::sample`]
@@ -272,6 +308,25 @@ fn collect(
             // A medium's boundary gives off nothing (it is not a surface a ray meets).
             _ => {}
         }
+    }
+}
+
+impl Bounded for (Shape, Real, Vec3) {
+    /// The light's box: every point a ray can meet it at (a moving sphere's whole path).
+    fn bounds(&self) -> Aabb {
+        match &self.0 {
+            Shape::Quad(quad) => quad.bounds(),
+            Shape::Triangle(p, ..) => {
+                let corners = p.iter().fold(Aabb::EMPTY, |b, &c| b.grow(c));
+                corners.padded(8.0 * Real::EPSILON * corners.magnitude())
+            }
+            Shape::Sphere(moving) => moving.bounds(),
+        }
+    }
+
+    fn centroid(&self) -> Vec3 {
+        let b = self.bounds();
+        0.5 * (b.min + b.max)
     }
 }
 
