@@ -243,19 +243,49 @@ impl Lights {
     /// not finite: the point then counts by bouncing only, under both).
     #[inline]
     pub fn pdf_of_point(&self, from: Vec3, point: Vec3, normal: Vec3, emitted: Vec3, time: Real) -> Real {
-        for &k in &self.spheres {
-            let Shape::Sphere(moving) = &self.shapes[k] else { continue };
-            let sphere = moving.at(time);
-            let r2 = sphere.radius * sphere.radius;
-            if ((point - sphere.center).length_squared() - r2).abs() <= 1e-3 * r2 {
-                return cone(&sphere, from)
-                    .map_or(0.0, |(_, cos_max)| self.chance[k] / (2.0 * PI_REAL * (1.0 - cos_max)));
-            }
+        if let Some(pdf) = self.sphere_pdf_of_point(from, point, time) {
+            return pdf;
         }
         let to = point - from;
         let d2 = to.length_squared();
         let pdf = luminance(emitted) / self.total * d2 / (to.dot(normal).abs() / d2.sqrt());
         if pdf.is_finite() { pdf } else { 0.0 }
+    }
+
+    /// The cone density of the sphere light whose surface `point` lies on, if there is one:
+    /// the spheres tested one by one, or, with a tree, those whose boxes the way from `from` to
+    /// `point` enters.
+    #[inline]
+    fn sphere_pdf_of_point(&self, from: Vec3, point: Vec3, time: Real) -> Option<Real> {
+        let on_sphere = |k: usize| {
+            let Shape::Sphere(moving) = &self.shapes[k] else { return None };
+            let sphere = moving.at(time);
+            let r2 = sphere.radius * sphere.radius;
+            (((point - sphere.center).length_squared() - r2).abs() <= 1e-3 * r2).then(|| {
+                cone(&sphere, from)
+                    .map_or(0.0, |(_, cos_max)| self.chance[k] / (2.0 * PI_REAL * (1.0 - cos_max)))
+            })
+        };
+        let Some(tree) = &self.tree else { return self.spheres.iter().find_map(|&k| on_sphere(k)) };
+        if self.spheres.is_empty() {
+            return None;
+        }
+        let to = point - from;
+        let distance = to.length();
+        let mut found = None;
+        tree.traverse(
+            &Ray::new(from, to / distance),
+            &mut Closest::none(1.001 * distance),
+            |leaf, closest| {
+                if found.is_none() {
+                    found = leaf.into_iter().find_map(on_sphere);
+                    if found.is_some() {
+                        closest.rule_out_rest();
+                    }
+                }
+            },
+        );
+        found
     }
 }
 
