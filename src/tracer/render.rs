@@ -363,10 +363,9 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
         if WORLD {
             let emitted = material.emitted(&hit);
             let weight = match weighed {
-                Some((from, bsdf_pdf)) if emitted != Vec3::ZERO => power_heuristic(
-                    bsdf_pdf,
-                    scene.lights().pdf_of_point(from, hit.point, hit.normal, emitted, start.time),
-                ),
+                Some((from, bsdf_pdf)) if emitted != Vec3::ZERO => {
+                    power_heuristic(bsdf_pdf, scene.lights().pdf_of_hit(from, &hit, emitted, start.time))
+                }
                 _ => 1.0,
             };
             radiance += throughput * emitted * weight;

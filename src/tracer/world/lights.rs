@@ -24,7 +24,7 @@ use rand::Rng;
 
 use crate::tracer::accel::bvh::Bvh;
 use crate::tracer::accel::wide::WideBvh;
-use crate::tracer::geometry::hit::Closest;
+use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::sphere::Sphere;
@@ -86,6 +86,9 @@ pub struct Lights {
     total: Real,
     /// Which of `shapes` are spheres (a hit on one is told apart by where it lies).
     spheres: Vec<usize>,
+    /// Whether some emitting mesh is shaded by normals from its file: a hit on it then tells
+    /// the shading normal, not the face's ([`Lights::pdf_of_hit`] looks the face up).
+    shaded: bool,
     /// A four-wide tree over the lights' boxes, once there are enough of them: the mixture's
     /// density visits only the lights a direction can meet (an emitting mesh may hold
     /// thousands).
@@ -107,7 +110,8 @@ impl Lights {
     /// ```
     pub fn new(objects: &[Object], materials: &[Material]) -> Lights {
         let mut found: Vec<(Shape, Real, Vec3)> = Vec::new();
-        collect(objects, &Transform::IDENTITY, materials, &mut found);
+        let mut shaded = false;
+        collect(objects, &Transform::IDENTITY, materials, &mut found, &mut shaded);
         found.retain(|light| light.1 > 0.0 && light.1.is_finite());
         // The tree reorders the lights; every list below follows its order.
         let tree = (found.len() >= TREE_MIN_OBJECTS).then(|| {
@@ -132,6 +136,7 @@ impl Lights {
             running,
             total,
             spheres,
+            shaded,
             tree,
         }
     }
@@ -252,6 +257,40 @@ impl Lights {
         if pdf.is_finite() { pdf } else { 0.0 }
     }
 
+    /// [`Lights::pdf_of_point`] for a bounce's `hit` on an emitter (from `from`): with the
+    /// face's own normal where the hit's is a mesh's shading normal (the shadow ray weighs
+    /// the point by its face's, so must the bounce, or the two weights would not sum to 1).
+    #[inline]
+    pub fn pdf_of_hit(&self, from: Vec3, hit: &Hit, emitted: Vec3, time: Real) -> Real {
+        let normal =
+            if self.shaded { self.face_normal(from, hit.point).unwrap_or(hit.normal) } else { hit.normal };
+        self.pdf_of_point(from, hit.point, normal, emitted, time)
+    }
+
+    /// The normal of the emitting triangle the way from `from` meets at `point`, if any.
+    fn face_normal(&self, from: Vec3, point: Vec3) -> Option<Vec3> {
+        let to = point - from;
+        let distance = to.length();
+        let ray = Ray::new(from, to / distance);
+        let at_point = |k: usize| match &self.shapes[k] {
+            Shape::Triangle(p, normal, _) => triangle::intersect(*p, &ray, 1.001 * distance)
+                .filter(|found| found.t >= 0.999 * distance)
+                .map(|_| *normal),
+            _ => None,
+        };
+        let Some(tree) = &self.tree else { return (0..self.shapes.len()).find_map(at_point) };
+        let mut found = None;
+        tree.traverse(&ray, &mut Closest::none(1.001 * distance), |leaf, closest| {
+            if found.is_none() {
+                found = leaf.into_iter().find_map(at_point);
+                if found.is_some() {
+                    closest.rule_out_rest();
+                }
+            }
+        });
+        found
+    }
+
     /// The cone density of the sphere light whose surface `point` lies on, if there is one:
     /// the spheres tested one by one, or, with a tree, those whose boxes the way from `from` to
     /// `point` enters.
@@ -289,12 +328,14 @@ impl Lights {
     }
 }
 
-/// Appends the lights among `objects`, placed by `place`, with their powers.
+/// Appends the lights among `objects`, placed by `place`, with their powers and emission;
+/// sets `shaded` if an emitting mesh has normals of its own.
 fn collect(
     objects: &[Object],
     place: &Transform,
     materials: &[Material],
     found: &mut Vec<(Shape, Real, Vec3)>,
+    shaded: &mut bool,
 ) {
     let emit = |material: u32| match materials[material as usize] {
         Material::DiffuseLight { emit, .. } => emit,
@@ -324,6 +365,7 @@ fn collect(
                 }
             }
             Object::Mesh(mesh, material) if glow(*material) > 0.0 => {
+                *shaded |= mesh.has_normals();
                 for k in 0..mesh.triangle_count() {
                     let p = mesh.corners(k).map(|corner| place.point(corner));
                     let n = (p[1] - p[0]).cross(p[2] - p[0]);
@@ -333,7 +375,7 @@ fn collect(
                 }
             }
             Object::Instance(instance) => {
-                collect(instance.group.objects(), &instance.transform.then(place), materials, found)
+                collect(instance.group.objects(), &instance.transform.then(place), materials, found, shaded)
             }
             // A medium's boundary gives off nothing (it is not a surface a ray meets).
             _ => {}

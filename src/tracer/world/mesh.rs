@@ -115,6 +115,11 @@ impl Mesh {
         Mesh::new(positions, self.normals, self.uvs, triangles).expect("a scaled mesh keeps its area")
     }
 
+    /// Whether its hits are shaded by normals from the file (else by each face's own).
+    pub fn has_normals(&self) -> bool {
+        !self.normals.is_empty()
+    }
+
     /// Number of triangles.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
