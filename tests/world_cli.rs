@@ -181,6 +181,13 @@ fn bad_new_world_scene_files_exit_2_with_one_line() {
             ),
             "plaid",
         ),
+        (
+            "group.toml",
+            format!(
+                "{head}[[group]]\n[group.transform]\ntranslate = [nan, 0.0, 0.0]\n[[group.sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\n{grey}\n"
+            ),
+            "group #1: transform must be finite",
+        ),
         ("missing.toml", mesh("nowhere.obj"), "nowhere.obj"),
         ("malformed.toml", mesh("broken.obj"), "broken.obj"),
         ("garbage.toml", mesh("garbage.obj"), "garbage.obj"),
@@ -195,6 +202,17 @@ fn bad_new_world_scene_files_exit_2_with_one_line() {
             "not an image",
         ),
     ];
+    let mut cases = cases.to_vec();
+    if std::mem::size_of::<raypool::tracer::math::real::Real>() == 4 {
+        // Finite as written, infinite as an f32.
+        cases.push((
+            "overflow.toml",
+            format!(
+                "{head}[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = {{ kind = \"diffuse_light\", emit = [1e39, 1.0, 1.0] }}\n"
+            ),
+            "must be finite (also as the renderer's",
+        ));
+    }
     for (name, text, needle) in cases {
         std::fs::write(dir.join(name), text).unwrap();
         refused(&dir, name, needle);

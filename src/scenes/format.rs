@@ -290,6 +290,9 @@ impl SceneFile {
         }
         self.shapes().check(&looks, "")?;
         for (i, g) in self.groups.iter().enumerate() {
+            if let Some(transform) = &g.transform {
+                transform.check().map_err(|e| format!("group #{}: {e}", i + 1))?;
+            }
             g.shapes().check(&looks, &format!("group #{} ", i + 1))?;
         }
         for (builtin, _) in self.image_sources().filter_map(|(p, b)| b.map(|b| (b, p))) {

@@ -237,7 +237,8 @@ pub struct Shapes<'a> {
 }
 
 impl TransformSpec {
-    fn check(&self) -> Result<(), String> {
+    /// Every angle and offset finite.
+    pub fn check(&self) -> Result<(), String> {
         let angles = [self.rotate_x, self.rotate_y, self.rotate_z];
         check(angles.iter().all(|a| a.is_finite()) && finite3(self.translate), || {
             format!("transform must be finite numbers, got {self:?}")
