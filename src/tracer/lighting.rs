@@ -13,10 +13,11 @@
 //!   is counted once, and never with more noise than the better of the two (Veach 1997).
 //!
 //! Invariant: a light's point reached by a shadow ray and the same point met by a bounce are
-//! weighed by the same density
-//! ([`Lights::pdf_of_point`](crate::tracer::world::lights::Lights::pdf_of_point)), and a path's last ray gets no
+//! weighed by the same density ([`Lights::pdf_of_point`]), and a path's last ray gets no
 //! shadow ray (it could not have met a light by bouncing either), so the three settings
 //! estimate the same image at every `max_depth`.
+//!
+//! [`Lights::pdf_of_point`]: crate::tracer::world::lights::Lights::pdf_of_point
 
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::math::real::{Real, Vec3};

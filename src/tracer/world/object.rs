@@ -226,9 +226,7 @@ impl Group {
         }
         best
     }
-}
 
-impl Group {
     /// Whether anything in the group is hit in `(0, t_max)`: the search ends at the first
     /// object found (pbrt's `IntersectP`, Embree's `rtcOccluded`).
     #[inline]
