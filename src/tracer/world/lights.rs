@@ -278,17 +278,7 @@ impl Lights {
                 .map(|_| *normal),
             _ => None,
         };
-        let Some(tree) = &self.tree else { return (0..self.shapes.len()).find_map(at_point) };
-        let mut found = None;
-        tree.traverse(&ray, &mut Closest::none(1.001 * distance), |leaf, closest| {
-            if found.is_none() {
-                found = leaf.into_iter().find_map(at_point);
-                if found.is_some() {
-                    closest.rule_out_rest();
-                }
-            }
-        });
-        found
+        self.first_on_the_way(&ray, distance, 0..self.shapes.len(), at_point)
     }
 
     /// The cone density of the sphere light whose surface `point` lies on, if there is one:
@@ -305,25 +295,35 @@ impl Lights {
                     .map_or(0.0, |(_, cos_max)| self.chance[k] / (2.0 * PI_REAL * (1.0 - cos_max)))
             })
         };
-        let Some(tree) = &self.tree else { return self.spheres.iter().find_map(|&k| on_sphere(k)) };
         if self.spheres.is_empty() {
             return None;
         }
         let to = point - from;
         let distance = to.length();
+        let ray = Ray::new(from, to / distance);
+        self.first_on_the_way(&ray, distance, self.spheres.iter().copied(), on_sphere)
+    }
+
+    /// The first answer `at` gives for a light the unit `ray` can meet within `distance`:
+    /// among `candidates` one by one, or, with a tree, among the lights whose boxes the ray
+    /// enters (the search ends at the first answer).
+    fn first_on_the_way<T>(
+        &self,
+        ray: &Ray,
+        distance: Real,
+        candidates: impl Iterator<Item = usize>,
+        at: impl Fn(usize) -> Option<T>,
+    ) -> Option<T> {
+        let Some(tree) = &self.tree else { return candidates.into_iter().find_map(at) };
         let mut found = None;
-        tree.traverse(
-            &Ray::new(from, to / distance),
-            &mut Closest::none(1.001 * distance),
-            |leaf, closest| {
-                if found.is_none() {
-                    found = leaf.into_iter().find_map(on_sphere);
-                    if found.is_some() {
-                        closest.rule_out_rest();
-                    }
+        tree.traverse(ray, &mut Closest::none(1.001 * distance), |leaf, closest| {
+            if found.is_none() {
+                found = leaf.into_iter().find_map(&at);
+                if found.is_some() {
+                    closest.rule_out_rest();
                 }
-            },
-        );
+            }
+        });
         found
     }
 }
