@@ -153,3 +153,85 @@ fn camera_rays_are_unit_length_and_start_on_the_lens() {
         );
     }
 }
+
+/// A plain f64 Möller–Trumbore test, the reference for the four-lane watertight test away
+/// from edges: `(t, b1, b2, |cos|)` of a hit in front of the origin.
+fn reference_hit(p: [Vec3; 3], ray: &Ray) -> Option<(f64, f64, f64, f64)> {
+    let d = |v: Vec3| glam::DVec3::new(v.x as f64, v.y as f64, v.z as f64);
+    let (o, dir) = (d(ray.origin), d(ray.dir));
+    let (e1, e2) = (d(p[1]) - d(p[0]), d(p[2]) - d(p[0]));
+    let h = dir.cross(e2);
+    let det = e1.dot(h);
+    let s = o - d(p[0]);
+    let b1 = s.dot(h) / det;
+    let q = s.cross(e1);
+    let b2 = dir.dot(q) / det;
+    let t = e2.dot(q) / det;
+    let cos = e1.cross(e2).normalize().dot(dir).abs();
+    (b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0 && t > 0.0).then_some((t, b1, b2, cos))
+}
+
+#[test]
+fn four_triangles_in_one_test_each_find_what_they_find_alone_and_what_the_reference_finds() {
+    use raypool::tracer::geometry::triangle::{RayFrame, Triangles4, intersect};
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut uniform = move || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 40) as Real / (1u64 << 24) as Real
+    };
+    let point = |scale: Real, uniform: &mut dyn FnMut() -> Real| {
+        Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * scale
+    };
+    let (mut checked, mut hits) = (0, 0);
+    for round in 0..4000 {
+        let count = 1 + round % 4;
+        let triangles: Vec<[Vec3; 3]> =
+            (0..count).map(|_| [0; 3].map(|_| point(2.0, &mut uniform))).collect();
+        // Aimed at a point of one of them (just outside it now and then), from anywhere.
+        let aim = triangles[round % count];
+        let (u, v) = (uniform() * 1.2 - 0.1, uniform() * 1.2 - 0.1);
+        let target = aim[0] + u * (aim[1] - aim[0]) + (1.0 - u) * v * (aim[2] - aim[0]);
+        let origin = point(6.0, &mut uniform);
+        let ray = Ray::new(origin, (target - origin).normalize());
+        let packet = Triangles4::new(&triangles).intersect(&RayFrame::new(&ray), Real::INFINITY);
+        let found: Vec<usize> = packet.lanes().collect();
+        for lane in 0..4 {
+            let alone = intersect(triangles[lane.min(count - 1)], &ray, Real::INFINITY);
+            assert_eq!(found.contains(&lane), alone.is_some(), "round {round}, lane {lane}");
+            if let Some(alone) = alone {
+                assert_eq!(packet.hit(lane), alone, "round {round}, lane {lane}: bit for bit");
+            }
+        }
+        for (k, &p) in triangles.iter().enumerate() {
+            let ours = intersect(p, &ray, Real::INFINITY);
+            match reference_hit(p, &ray) {
+                // Near an edge, rounding may decide either way: not compared.
+                Some((_, b1, b2, _)) if b1.min(b2).min(1.0 - b1 - b2) < 1e-4 => continue,
+                Some((t, b1, b2, cos)) => {
+                    let ours = ours.unwrap_or_else(|| panic!("round {round}, triangle {k}: missed"));
+                    // f32 rounding of the corners, magnified where the ray grazes the plane.
+                    let tolerance = 1e-5 * t.max(1.0) / cos.max(1e-3);
+                    assert!((ours.t as f64 - t).abs() <= tolerance, "t {} against {t} (cos {cos})", ours.t);
+                    let [_, o1, o2] = ours.barycentric;
+                    assert!((o1 as f64 - b1).abs() < 1e-3 && (o2 as f64 - b2).abs() < 1e-3);
+                    hits += 1;
+                }
+                None => {
+                    if let Some(ours) = ours {
+                        // Only a grazing miss of the reference may be our hit.
+                        let near_edge = ours.barycentric.iter().any(|&b| b.abs() < 1e-4);
+                        assert!(
+                            near_edge,
+                            "round {round}, triangle {k}: a hit the reference misses: {ours:?}"
+                        );
+                    }
+                }
+            }
+            checked += 1;
+        }
+    }
+    assert!(
+        checked > 9000 && hits > 2000,
+        "{checked} compared, {hits} hits: the rays must meet the triangles"
+    );
+}

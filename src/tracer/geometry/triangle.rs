@@ -13,11 +13,13 @@
 //! distance is kept only if it is positive beyond the test's own rounding bound (pbrt's
 //! `deltaT`), so a ray leaving a triangle never meets it again.
 //!
-//! A triangle here is only three points: meshes (`world/mesh.rs`) keep their vertices shared
-//! and indexed, and hand the three of a triangle to [`intersect`].
+//! The test is written once, for four triangles at a time ([`Triangles4`], each step one SIMD
+//! operation on four lanes, as Embree tests its leaves): a mesh (`world/mesh.rs`) keeps its
+//! vertices shared and indexed for shading, and a copy of each leaf's corners lane by lane for
+//! the search; [`intersect`], one triangle, is the same test with it in every lane.
 
 use crate::tracer::math::ray::Ray;
-use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::math::real::{Real, Real4, Vec3};
 
 /// pbrt's `γ(n) = nε / (1 − nε)`, with ε half an ulp of 1: a bound on `n` roundings.
 const fn gamma(n: Real) -> Real {
@@ -42,7 +44,8 @@ pub fn degenerate(p: [Vec3; 3]) -> bool {
     !n.is_finite() || !area2.is_finite() || area2 <= 0.0
 }
 
-/// The hit of `ray` on the triangle `p` in `(0, t_max)`, if any.
+/// The hit of `ray` on the triangle `p` in `(0, t_max)`, if any (the four-lane test of
+/// [`Triangles4`] with one triangle in every lane: the same numbers, so the same hits).
 ///
 /// ```
 /// use raypool::tracer::geometry::triangle::intersect;
@@ -54,16 +57,18 @@ pub fn degenerate(p: [Vec3; 3]) -> bool {
 /// ```
 #[inline]
 pub fn intersect(p: [Vec3; 3], ray: &Ray, t_max: Real) -> Option<TriangleHit> {
-    intersect_in(&RayFrame::new(ray), p, ray, t_max)
+    let hits = Triangles4::new(&[p]).intersect(&RayFrame::new(ray), t_max);
+    hits.lanes().next().map(|lane| hits.hit(lane))
 }
 
 /// The ray's own frame, the part of the test that depends on the ray alone: computed once
-/// per ray by a mesh's search, then shared by every triangle it tests (the same numbers as
-/// [`intersect`] computes for itself, so the same hits).
+/// per ray by a mesh's search, then shared by every triangle it tests.
 #[derive(Clone, Copy, Debug)]
 pub struct RayFrame {
     /// The axes that become x, y and z (z: the direction's largest component).
     k: [usize; 3],
+    /// The ray's origin, its axes so permuted.
+    origin: [Real; 3],
     /// The shear: `x += sx·z`, `y += sy·z`, then `z·sz`.
     sx: Real,
     sy: Real,
@@ -78,75 +83,150 @@ impl RayFrame {
         let kz = d.abs().max_position();
         let (kx, ky) = ((kz + 1) % 3, (kz + 2) % 3);
         let (dx, dy, dz) = (d[kx], d[ky], d[kz]);
-        RayFrame { k: [kx, ky, kz], sx: -dx / dz, sy: -dy / dz, sz: 1.0 / dz }
+        let o = ray.origin;
+        RayFrame { k: [kx, ky, kz], origin: [o[kx], o[ky], o[kz]], sx: -dx / dz, sy: -dy / dz, sz: 1.0 / dz }
     }
 }
 
-/// [`intersect`] with the ray's frame already made (`frame` must be `RayFrame::new(ray)`).
-#[inline(always)]
-pub fn intersect_in(frame: &RayFrame, p: [Vec3; 3], ray: &Ray, t_max: Real) -> Option<TriangleHit> {
-    let [kx, ky, kz] = frame.k;
-    let permute = |v: Vec3| Vec3::new(v[kx], v[ky], v[kz]);
-    let (sx, sy, sz) = (frame.sx, frame.sy, frame.sz);
-    let mut q = p.map(|v| permute(v - ray.origin));
-    for v in &mut q {
-        v.x += sx * v.z;
-        v.y += sy * v.z;
-    }
-    let mut e = [edge(q[1], q[2]), edge(q[2], q[0]), edge(q[0], q[1])];
-    if e.contains(&0.0) {
-        e = [edge_f64(q[1], q[2]), edge_f64(q[2], q[0]), edge_f64(q[0], q[1])];
-    }
-    if (e[0] < 0.0 || e[1] < 0.0 || e[2] < 0.0) && (e[0] > 0.0 || e[1] > 0.0 || e[2] > 0.0) {
-        return None;
-    }
-    let det = e[0] + e[1] + e[2];
-    if det == 0.0 {
-        return None;
-    }
-    let z = q.map(|v| v.z * sz);
-    let t_scaled = e[0] * z[0] + e[1] * z[1] + e[2] * z[2];
-    // t = t_scaled / det must lie in (0, t_max): compared before dividing, sign by sign.
-    if det < 0.0 && (t_scaled >= 0.0 || t_scaled < t_max * det) {
-        return None;
-    }
-    if det > 0.0 && (t_scaled <= 0.0 || t_scaled > t_max * det) {
-        return None;
-    }
-    let inv_det = 1.0 / det;
-    let t = t_scaled * inv_det;
-    if t.is_nan() || t >= t_max || t <= rounding_bound(&q, &z, &e, inv_det) {
-        return None;
-    }
-    Some(TriangleHit { t, barycentric: e.map(|x| x * inv_det) })
+/// Triangles per [`Triangles4`]: one per SIMD lane of f32.
+pub const LANES: usize = 4;
+
+/// Up to four triangles with their corners stored lane by lane (Embree's `Triangle4v`), so
+/// that one pass of the test checks all four: every step below is one operation on a
+/// [`Real4`], four numbers in one SIMD register. A mesh keeps one per leaf of its tree. A
+/// leaf of fewer than four repeats its last triangle in the spare lanes.
+#[derive(Clone, Copy, Debug)]
+pub struct Triangles4 {
+    /// `corner[vertex][axis]`, a lane per triangle.
+    corner: [[Real4; 3]; 3],
 }
 
-/// The edge function of the transformed vertices `a`, `b`: twice the signed area of the
-/// triangle they make with the ray (the origin of the sheared frame).
-#[inline(always)]
-fn edge(a: Vec3, b: Vec3) -> Real {
-    a.x * b.y - a.y * b.x
+/// What [`Triangles4::intersect`] found: which lanes hit, where, and the edge functions from
+/// which a hit's barycentric coordinates follow.
+#[derive(Clone, Copy, Debug)]
+pub struct Hits4 {
+    /// Bit `k` set when lane `k` hit in `(0, t_max)`.
+    mask: u32,
+    t: Real4,
+    /// The three edge functions, then `1 / det`.
+    e: [Real4; 3],
+    inv_det: Real4,
 }
 
-/// [`edge`] in f64, for the rare exact zero that f32 rounding may have produced.
+impl Triangles4 {
+    /// The triangles `p` (one to four), the last repeated in the lanes left over.
+    pub fn new(p: &[[Vec3; 3]]) -> Triangles4 {
+        assert!((1..=LANES).contains(&p.len()), "{} triangles for four lanes", p.len());
+        let lane = |l: usize| p[l.min(p.len() - 1)];
+        let corner = std::array::from_fn(|vertex| {
+            std::array::from_fn(|axis| Real4::from_array(std::array::from_fn(|l| lane(l)[vertex][axis])))
+        });
+        Triangles4 { corner }
+    }
+
+    /// The hits of the ray of `frame` on the four triangles in `(0, t_max)`: [`intersect`]'s
+    /// arithmetic in each lane, in the same order, with no early exit.
+    #[inline(always)]
+    pub fn intersect(&self, frame: &RayFrame, t_max: Real) -> Hits4 {
+        let [kx, ky, kz] = frame.k;
+        let [ox, oy, oz] = frame.origin.map(Real4::splat);
+        let (sx, sy, sz) = (frame.sx, frame.sy, frame.sz);
+        // The corners moved to the ray's origin, permuted and sheared: `q[vertex][axis]`.
+        let q: [[Real4; 3]; 3] = std::array::from_fn(|vertex| {
+            let c = &self.corner[vertex];
+            let z = c[kz] - oz;
+            [(c[kx] - ox) + sx * z, (c[ky] - oy) + sy * z, z]
+        });
+        let edge = |a: usize, b: usize| q[a][0] * q[b][1] - q[a][1] * q[b][0];
+        let mut e = [edge(1, 2), edge(2, 0), edge(0, 1)];
+        let zero = Real4::ZERO;
+        if (e[0].cmpeq(zero) | e[1].cmpeq(zero) | e[2].cmpeq(zero)).any() {
+            recompute_zero_edges(&q, &mut e);
+        }
+        let det = e[0] + e[1] + e[2];
+        let z = q.map(|v| v[2] * sz);
+        let t_scaled = e[0] * z[0] + e[1] * z[1] + e[2] * z[2];
+        let inv_det = Real4::ONE / det;
+        let t = t_scaled * inv_det;
+        let outside = (e[0].cmplt(zero) | e[1].cmplt(zero) | e[2].cmplt(zero))
+            & (e[0].cmpgt(zero) | e[1].cmpgt(zero) | e[2].cmpgt(zero));
+        // t = t_scaled / det must lie in (0, t_max): compared before dividing, sign by sign.
+        let bound = t_max * det;
+        let negative = det.cmplt(zero);
+        let behind_or_beyond = (negative & (t_scaled.cmpge(zero) | t_scaled.cmplt(bound)))
+            | (!negative & (t_scaled.cmple(zero) | t_scaled.cmpgt(bound)));
+        let kept = !outside & det.cmpne(zero) & !behind_or_beyond & t.cmplt(Real4::splat(t_max));
+        let mut candidates = kept.bitmask();
+        let mut hits = Hits4 { mask: 0, t, e, inv_det };
+        // Rarely more than one lane: the rounding bound only where it decides.
+        while candidates != 0 {
+            let l = candidates.trailing_zeros() as usize;
+            candidates &= candidates - 1;
+            if t[l] > rounding_bound(&q, sz, &e, inv_det[l], l) {
+                hits.mask |= 1 << l;
+            }
+        }
+        hits
+    }
+}
+
+impl Hits4 {
+    /// The lanes that hit, in increasing order.
+    #[inline(always)]
+    pub fn lanes(&self) -> impl Iterator<Item = usize> + use<> {
+        let mask = self.mask;
+        (0..LANES).filter(move |lane| mask & 1 << lane != 0)
+    }
+
+    /// Whether any lane hit.
+    #[inline(always)]
+    pub fn any(&self) -> bool {
+        self.mask != 0
+    }
+
+    /// Lane `lane`'s distance (a lane that [`Hits4::lanes`] names).
+    #[inline(always)]
+    pub fn t(&self, lane: usize) -> Real {
+        self.t[lane]
+    }
+
+    /// Lane `lane`'s hit (a lane that [`Hits4::lanes`] names).
+    #[inline(always)]
+    pub fn hit(&self, lane: usize) -> TriangleHit {
+        let barycentric = [0, 1, 2].map(|k| self.e[k][lane] * self.inv_det[lane]);
+        TriangleHit { t: self.t[lane], barycentric }
+    }
+}
+
+/// An edge function of exactly zero may be rounding's: in each lane that has one, all three
+/// are recomputed in f64, as pbrt does, so that a ray that truly misses an edge is not taken
+/// for one on it.
 #[cold]
 #[allow(clippy::unnecessary_cast)] // a no-op in the f64 build
-fn edge_f64(a: Vec3, b: Vec3) -> Real {
-    let (ax, ay, bx, by) = (a.x as f64, a.y as f64, b.x as f64, b.y as f64);
-    (ax * by - ay * bx) as Real
+fn recompute_zero_edges(q: &[[Real4; 3]; 3], e: &mut [Real4; 3]) {
+    for lane in 0..LANES {
+        if (0..3).any(|k| e[k][lane] == 0.0) {
+            for (k, (a, b)) in [(1, 2), (2, 0), (0, 1)].into_iter().enumerate() {
+                let (ax, ay) = (q[a][0][lane] as f64, q[a][1][lane] as f64);
+                let (bx, by) = (q[b][0][lane] as f64, q[b][1][lane] as f64);
+                e[k][lane] = (ax * by - ay * bx) as Real;
+            }
+        }
+    }
 }
 
-/// pbrt's bound on the rounding error of the computed `t` (`deltaT`): a hit no farther than
-/// this might really lie behind the ray's origin.
+/// pbrt's bound on the rounding error of the computed `t` (`deltaT`) in lane `lane`: a hit no
+/// farther than this might really lie behind the ray's origin.
 #[inline(always)]
-fn rounding_bound(q: &[Vec3; 3], z: &[Real; 3], e: &[Real; 3], inv_det: Real) -> Real {
-    let max_z = z[0].abs().max(z[1].abs()).max(z[2].abs());
+fn rounding_bound(q: &[[Real4; 3]; 3], sz: Real, e: &[Real4; 3], inv_det: Real, lane: usize) -> Real {
+    let max3 = |f: &dyn Fn(usize) -> Real| f(0).abs().max(f(1).abs()).max(f(2).abs());
+    let max_z = max3(&|v| q[v][2][lane] * sz);
     let delta_z = gamma(3.0) * max_z;
-    let max_x = q[0].x.abs().max(q[1].x.abs()).max(q[2].x.abs());
-    let max_y = q[0].y.abs().max(q[1].y.abs()).max(q[2].y.abs());
+    let max_x = max3(&|v| q[v][0][lane]);
+    let max_y = max3(&|v| q[v][1][lane]);
     let delta_x = gamma(5.0) * (max_x + max_z);
     let delta_y = gamma(5.0) * (max_y + max_z);
     let delta_e = 2.0 * (gamma(2.0) * max_x * max_y + delta_y * max_x + delta_x * max_y);
-    let max_e = e[0].abs().max(e[1].abs()).max(e[2].abs());
+    let max_e = max3(&|k| e[k][lane]);
     3.0 * (gamma(3.0) * max_e * max_z + delta_e * max_z + delta_z * max_e) * inv_det.abs()
 }

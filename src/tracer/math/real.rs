@@ -12,6 +12,8 @@ mod precision {
     pub type Real = f32;
     /// The renderer's 3-vector: points, directions and linear RGB colours.
     pub type Vec3 = glam::Vec3A;
+    /// Four scalars in one SIMD register (SSE on x86-64): four shapes tested at once.
+    pub type Real4 = glam::Vec4;
     pub use std::f32::consts;
 }
 
@@ -21,10 +23,12 @@ mod precision {
     pub type Real = f64;
     /// The renderer's 3-vector: points, directions and linear RGB colours.
     pub type Vec3 = glam::DVec3;
+    /// Four scalars tested at once (scalar code with the `f64` feature).
+    pub type Real4 = glam::DVec4;
     pub use std::f64::consts;
 }
 
-pub use precision::{Real, Vec3, consts};
+pub use precision::{Real, Real4, Vec3, consts};
 
 /// Converts a scene file's `[x, y, z]` (always f64 on disk) to a [`Vec3`].
 pub fn vec3(v: [f64; 3]) -> Vec3 {
