@@ -212,6 +212,33 @@ fn bad_new_world_scene_files_exit_2_with_one_line() {
             ),
             "must be finite (also as the renderer's",
         ));
+        // Every other number of a scene file is checked so too.
+        let sphere = "[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nmaterial = { kind = \"lambertian\", albedo = [0.5, 0.5, 0.5] }";
+        let overflowing = [
+            ("radius.toml", format!("{head}{sphere}\nradius = 1e39\n"), "radius must be finite (as f32)"),
+            (
+                "density.toml",
+                format!(
+                    "{head}[[medium]]\ndensity = 1e39\nalbedo = [1.0, 1.0, 1.0]\nboundary = {{ kind = \"sphere\", center = [0.0, 0.0, 0.0], radius = 1.0 }}\n"
+                ),
+                "density must be finite (as f32)",
+            ),
+            (
+                "ior.toml",
+                format!(
+                    "{head}[[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = {{ kind = \"dielectric\", ior = 1e39 }}\n"
+                ),
+                "ior must be finite (as f32)",
+            ),
+            (
+                "turn.toml",
+                format!(
+                    "{head}[[group]]\n[group.transform]\nrotate_y = 1e39\n[[group.sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\n{grey}\n"
+                ),
+                "transform must be finite numbers (as f32)",
+            ),
+        ];
+        cases.extend(overflowing.iter().map(|(n, t, w)| (*n, t.clone(), *w)));
     }
     for (name, text, needle) in cases {
         std::fs::write(dir.join(name), text).unwrap();

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use crate::error::io_reason;
-use crate::scenes::checks::check;
+use crate::scenes::checks::{REAL, check, representable};
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::shading::perlin::Perlin;
 use crate::tracer::shading::texture::ImageTexture;
@@ -46,8 +46,10 @@ impl GeneratedMesh {
     pub fn check(&self) -> Result<(), String> {
         let GeneratedMesh::Terrain { cells, size, height, .. } = *self;
         check((1..=1024).contains(&cells), || format!("terrain cells must be 1 to 1024, got {cells}"))?;
-        check(size.is_finite() && size > 0.0, || format!("terrain size must be finite and > 0, got {size}"))?;
-        check(height.is_finite(), || format!("terrain height must be finite, got {height}"))
+        check(representable(size) && size > 0.0, || {
+            format!("terrain size must be finite (as {REAL}) and > 0, got {size}")
+        })?;
+        check(representable(height), || format!("terrain height must be finite (as {REAL}), got {height}"))
     }
 
     /// The mesh.

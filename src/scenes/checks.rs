@@ -24,7 +24,11 @@ pub fn finite3(v: [f64; 3]) -> bool {
     v.iter().all(|&x| representable(x))
 }
 
-/// Whether `x` is finite as the tracer's [`Real`].
+/// The tracer's precision, as messages name it.
+pub const REAL: &str = if cfg!(feature = "f64") { "f64" } else { "f32" };
+
+/// Whether `x` is finite as the tracer's [`Real`] (`1e39` is a finite `f64` but an infinite
+/// `f32`): every number of a scene file is checked so.
 pub fn representable(x: f64) -> bool {
     (x as Real).is_finite()
 }

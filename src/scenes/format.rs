@@ -41,7 +41,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, io_reason};
 use crate::scenes::assets::{Assets, BUILTIN_IMAGES};
-use crate::scenes::checks::{check, colour, finite3};
+use crate::scenes::checks::{REAL, check, colour, finite3, representable};
 use crate::scenes::looks::{Looks, Ref, Tables, TextureSpec, check_texture};
 use crate::scenes::world::{GroupSpec, MeshSpec, Shapes, placed};
 use crate::tracer::camera::CameraSettings;
@@ -256,8 +256,8 @@ impl SceneFile {
         for (name, x) in
             [("vfov", c.vfov), ("aperture", c.aperture), ("focus_dist", c.focus_dist), ("aspect", c.aspect)]
         {
-            if !x.is_finite() {
-                return Err(format!("camera.{name} must be a finite number, got {x}"));
+            if !representable(x) {
+                return Err(format!("camera.{name} must be a finite number (as {REAL}), got {x}"));
             }
         }
         check(c.vfov > 0.0 && c.vfov < 180.0, || {

@@ -8,7 +8,7 @@ use serde::de::{self, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::scenes::assets::Assets;
-use crate::scenes::checks::{check, colour};
+use crate::scenes::checks::{REAL, check, colour, representable};
 use crate::tracer::math::real::{Real, vec3};
 use crate::tracer::shading::material::Material;
 use crate::tracer::shading::perlin::Perlin;
@@ -157,11 +157,13 @@ impl Looks<'_> {
             },
             MaterialSpec::Metal { albedo, fuzz } => {
                 colour(*albedo).map_err(|e| format!("albedo {e}"))?;
-                check(fuzz.is_finite() && *fuzz >= 0.0, || format!("fuzz must be finite and ≥ 0, got {fuzz}"))
+                check(representable(*fuzz) && *fuzz >= 0.0, || {
+                    format!("fuzz must be finite (as {REAL}) and ≥ 0, got {fuzz}")
+                })
             }
-            MaterialSpec::Dielectric { ior } => {
-                check(ior.is_finite() && *ior > 0.0, || format!("ior must be finite and > 0, got {ior}"))
-            }
+            MaterialSpec::Dielectric { ior } => check(representable(*ior) && *ior > 0.0, || {
+                format!("ior must be finite (as {REAL}) and > 0, got {ior}")
+            }),
             MaterialSpec::DiffuseLight { emit, albedo } => {
                 colour(*emit).map_err(|e| format!("emit {e}"))?;
                 check((0.0..=1.0).contains(albedo), || format!("albedo must be in [0, 1], got {albedo}"))
@@ -175,15 +177,15 @@ pub fn check_texture(t: &TextureSpec) -> Result<(), String> {
     match t {
         TextureSpec::Solid { color } => colour(*color).map_err(|e| format!("color {e}")),
         TextureSpec::Checker { scale, even, odd } => {
-            check(scale.is_finite() && *scale > 0.0, || {
-                format!("scale must be finite and > 0, got {scale}")
+            check(representable(*scale) && *scale > 0.0, || {
+                format!("scale must be finite (as {REAL}) and > 0, got {scale}")
             })?;
             colour(*even).map_err(|e| format!("even {e}"))?;
             colour(*odd).map_err(|e| format!("odd {e}"))
         }
-        TextureSpec::Noise { scale } => {
-            check(scale.is_finite() && *scale > 0.0, || format!("scale must be finite and > 0, got {scale}"))
-        }
+        TextureSpec::Noise { scale } => check(representable(*scale) && *scale > 0.0, || {
+            format!("scale must be finite (as {REAL}) and > 0, got {scale}")
+        }),
         TextureSpec::Image { path, builtin } => match (path, builtin) {
             (Some(_), None) | (None, Some(_)) => Ok(()),
             _ => Err("an image texture needs exactly one of path and builtin".to_owned()),

@@ -28,7 +28,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::scenes::assets::{Assets, GeneratedMesh};
-use crate::scenes::checks::{check, colour, finite3};
+use crate::scenes::checks::{REAL, check, colour, finite3, representable};
 use crate::scenes::looks::{Looks, MaterialRef, Tables};
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::{Quad, box_faces};
@@ -240,8 +240,8 @@ impl TransformSpec {
     /// Every angle and offset finite.
     pub fn check(&self) -> Result<(), String> {
         let angles = [self.rotate_x, self.rotate_y, self.rotate_z];
-        check(angles.iter().all(|a| a.is_finite()) && finite3(self.translate), || {
-            format!("transform must be finite numbers, got {self:?}")
+        check(angles.iter().all(|&a| representable(a)) && finite3(self.translate), || {
+            format!("transform must be finite numbers (as {REAL}), got {self:?}")
         })
     }
 
@@ -260,8 +260,8 @@ impl<'a> Shapes<'a> {
         for (i, s) in self.spheres.iter().enumerate() {
             let name = format!("{at}sphere #{} (center {:?})", i + 1, s.center);
             check(finite3(s.center), || format!("{at}sphere #{}: center must be finite numbers", i + 1))?;
-            check(s.radius.is_finite() && s.radius != 0.0, || {
-                format!("{name}: radius must be finite and non-zero, got {}", s.radius)
+            check(representable(s.radius) && s.radius != 0.0, || {
+                format!("{name}: radius must be finite (as {REAL}) and non-zero, got {}", s.radius)
             })?;
             check(s.center1.is_none_or(finite3), || format!("{name}: center1 must be finite numbers"))?;
             looks.check_material(&s.material).map_err(|e| format!("{name}: {e}"))?;
@@ -300,21 +300,21 @@ impl<'a> Shapes<'a> {
             if let Some(g) = &m.generate {
                 g.check().map_err(|e| format!("{name}: {e}"))?;
             }
-            check(m.scale.is_none_or(|s| s.is_finite() && s > 0.0), || {
-                format!("{name}: scale must be finite and > 0")
+            check(m.scale.is_none_or(|s| representable(s) && s > 0.0), || {
+                format!("{name}: scale must be finite (as {REAL}) and > 0")
             })?;
             m.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
             looks.check_material(&m.material).map_err(|e| format!("{name}: {e}"))?;
         }
         for (i, m) in self.media.iter().enumerate() {
             let name = format!("{at}medium #{}", i + 1);
-            check(m.density.is_finite() && m.density >= 0.0, || {
-                format!("{name}: density must be finite and ≥ 0, got {}", m.density)
+            check(representable(m.density) && m.density >= 0.0, || {
+                format!("{name}: density must be finite (as {REAL}) and ≥ 0, got {}", m.density)
             })?;
             colour(m.albedo).map_err(|e| format!("{name}: albedo {e}"))?;
             match m.boundary {
                 BoundarySpec::Sphere { center, radius } => {
-                    check(finite3(center) && radius.is_finite() && radius > 0.0, || {
+                    check(finite3(center) && representable(radius) && radius > 0.0, || {
                         format!("{name}: a boundary sphere needs a finite centre and a radius > 0")
                     })?
                 }
