@@ -95,6 +95,16 @@ pub const LANES: usize = 4;
 /// that one pass of the test checks all four: every step below is one operation on a
 /// [`Real4`], four numbers in one SIMD register. A mesh keeps one per leaf of its tree. A
 /// leaf of fewer than four repeats its last triangle in the spare lanes.
+///
+/// ```
+/// use raypool::tracer::geometry::triangle::{RayFrame, Triangles4};
+/// use raypool::tracer::math::{ray::Ray, real::Vec3};
+/// let at = |z: f32| [Vec3::new(-1.0, -1.0, z), Vec3::new(1.0, -1.0, z), Vec3::new(0.0, 1.0, z)];
+/// let ray = Ray::new(Vec3::ZERO, -Vec3::Z);
+/// let hits = Triangles4::new(&[at(-3.0), at(2.0), at(-2.0)]).intersect(&RayFrame::new(&ray), f32::INFINITY);
+/// assert_eq!(hits.lanes().collect::<Vec<_>>(), [0, 2, 3], "the one behind is missed; lane 3 repeats lane 2");
+/// assert_eq!((hits.t(0), hits.t(2)), (3.0, 2.0));
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Triangles4 {
     /// `corner[vertex][axis]`, a lane per triangle.
@@ -108,8 +118,9 @@ pub struct Hits4 {
     /// Bit `k` set when lane `k` hit in `(0, t_max)`.
     mask: u32,
     t: Real4,
-    /// The three edge functions, then `1 / det`.
+    /// The three edge functions, whose sum is `det`.
     e: [Real4; 3],
+    /// `1 / det`: the barycentric coordinates are `e · (1 / det)`.
     inv_det: Real4,
 }
 
