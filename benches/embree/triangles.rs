@@ -257,8 +257,8 @@ pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) 
     let runs = |k: usize| seconds[k].iter().map(|s| format!("{:.1}", s * 1e3)).collect::<Vec<_>>().join(", ");
     format!(
         "## Triangles: the `mesh` scene's mesh\n\n\
-         raypool's mesh search ([`Mesh::closest`]: its own four-wide tree, leaves of 4, the\n\
-         watertight test) against Embree's triangle geometry (`RTC_GEOMETRY_TYPE_TRIANGLE`, build\n\
+         raypool's mesh search ([`Mesh::closest`]: its own four-wide tree, leaves of 4 whose\n\
+         watertight test runs in four SIMD lanes) against Embree's triangle geometry (`RTC_GEOMETRY_TYPE_TRIANGLE`, build\n\
          quality high, default scene flags, `rtcIntersect1` with an incoherent context), over\n\
          the same positions and indices: {tris} triangles. The search only, mesh only (the\n\
          scene's two spheres are not searched). A fixed ray set, recorded once: a jittered camera\n\
