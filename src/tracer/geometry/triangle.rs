@@ -135,8 +135,10 @@ impl Triangles4 {
         Triangles4 { corner }
     }
 
-    /// The hits of the ray of `frame` on the four triangles in `(0, t_max)`: [`intersect`]'s
-    /// arithmetic in each lane, in the same order, with no early exit.
+    /// The hits of the ray of `frame` on the four triangles in `(0, t_max)`: in each lane,
+    /// pbrt's scalar test's arithmetic in its order (so each lane's hit is bit for bit the
+    /// scalar test's, as the mesh's per-triangle test before these lanes found), with no early
+    /// exit.
     #[inline(always)]
     pub fn intersect(&self, frame: &RayFrame, t_max: Real) -> Hits4 {
         let [kx, ky, kz] = frame.k;
