@@ -344,6 +344,12 @@ const EMPTY_CORNERS: [[Wide; 3]; 2] = [[[Real::INFINITY; WIDTH]; 3], [[Real::NEG
 struct Slab {
     origin: [Real; 3],
     inv_dir: [Real; 3],
+    /// `inv_dir` scaled by [`SLAB_ROUNDING`], for the exit distances: scaled once per ray
+    /// instead of once per exit distance, which carries as many roundings as pbrt's (the
+    /// reciprocal, this scaling, the subtraction, the product; pbrt scales last), so its
+    /// bound still holds; one multiplication less per axis and node (3% more triangle
+    /// rays/s, `results/perf.md`).
+    inv_exit: [Real; 3],
     /// Per axis, 0 when the ray travels towards +axis (it enters at the lower corner), else 1.
     near_corner: [usize; 3],
 }
@@ -360,6 +366,7 @@ impl Slab {
         Slab {
             origin: [ray.origin.x, ray.origin.y, ray.origin.z],
             inv_dir,
+            inv_exit: inv_dir.map(|i| i * SLAB_ROUNDING),
             near_corner: inv_dir.map(|i| usize::from(i.is_sign_negative())),
         }
     }
@@ -377,9 +384,10 @@ impl Slab {
         let mut far: Wide = [t_max; WIDTH];
         for axis in 0..3 {
             let (o, inv, n) = (self.origin[axis], self.inv_dir[axis], self.near_corner[axis]);
+            let inv_exit = self.inv_exit[axis];
             for lane in 0..WIDTH {
                 let t_in = (corner[n][axis][lane] - o) * inv;
-                let t_out = (corner[1 - n][axis][lane] - o) * inv * SLAB_ROUNDING;
+                let t_out = (corner[1 - n][axis][lane] - o) * inv_exit;
                 near[lane] = if t_in > near[lane] { t_in } else { near[lane] };
                 far[lane] = if t_out < far[lane] { t_out } else { far[lane] };
             }
