@@ -104,7 +104,7 @@ fn camera_settings() -> CameraSettings {
         vup: [0.0, 1.0, 0.0],
         vfov: 20.0,
         aperture: 0.0,
-        focus_dist: 10.0,
+        focus_dist: Some(10.0),
         aspect: 1.5,
     }
 }

@@ -2,7 +2,10 @@
 
 use raypool::scenes::builtin::{BUILTINS, builtin_scene};
 use raypool::scenes::format::SceneFile;
+use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
+use raypool::tracer::sampling::sobol::SobolStreams;
 use raypool::tracer::shading::material::Material;
+use raypool::tracer::tile::Tile;
 
 const MINIMAL: &str = r#"
 [camera]
@@ -35,6 +38,27 @@ fn every_builtin_round_trips_through_toml() {
             SceneFile::parse(&text, "round-trip").unwrap_or_else(|e| panic!("{}: {e}\n{text}", b.name));
         assert_eq!(again, scene, "{} changed in the round trip", b.name);
     }
+}
+
+#[test]
+fn without_focus_dist_the_lookat_distance_is_in_focus() {
+    // MINIMAL looks from 5 units away; through a wide lens, leaving focus_dist out must give
+    // the image of focus_dist = 5, bit for bit, and not that of another distance.
+    let lens = |focus: &str| MINIMAL.replace("focus_dist = 5.0", &format!("aperture = 0.5\n{focus}"));
+    let image = |text: String| {
+        let settings = RenderSettings { width: 16, height: 12, spp: 4, ..Default::default() };
+        let scene = SceneFile::parse(&text, "lens.toml").unwrap_or_else(|e| panic!("{e}"));
+        assert!(scene.to_toml().contains("focus_dist") == text.contains("focus_dist"), "printed as read");
+        let job = RenderJob::new(scene.to_scene(), settings);
+        render_tile(&job, &SobolStreams::new(1), Tile { x: 0, y: 0, width: 16, height: 12 }).pixels
+    };
+    let absent = image(lens(""));
+    assert_eq!(absent, image(lens("focus_dist = 5.0")), "the distance to lookat, 5");
+    assert_ne!(absent, image(lens("focus_dist = 2.0")), "a lens makes the focus show");
+    let far = MINIMAL.replace("focus_dist = 5.0", "");
+    let far = far.replace("lookat = [0.0, 0.0, 0.0]", "lookat = [0.0, 0.0, 0.0]\nfocus_dist = 0.0");
+    let error = SceneFile::parse(&far, "zero.toml").unwrap_err().to_string();
+    assert!(error.contains("camera.focus_dist must be > 0"), "{error}");
 }
 
 #[test]

@@ -123,7 +123,15 @@ fn glass() -> MaterialSpec {
 
 fn camera(lookfrom: [f64; 3], lookat: [f64; 3], vfov: f64) -> CameraSettings {
     let d = ((0..3).map(|i| (lookfrom[i] - lookat[i]).powi(2)).sum::<f64>()).sqrt();
-    CameraSettings { lookfrom, lookat, vup: [0.0, 1.0, 0.0], vfov, aperture: 0.0, focus_dist: d, aspect: 1.0 }
+    CameraSettings {
+        lookfrom,
+        lookat,
+        vup: [0.0, 1.0, 0.0],
+        vfov,
+        aperture: 0.0,
+        focus_dist: Some(d),
+        aspect: 1.0,
+    }
 }
 
 fn under_white_sky(camera: CameraSettings, spheres: Vec<SphereSpec>) -> SceneFile {

@@ -155,7 +155,7 @@ pub fn final_scene(scene_seed: u64) -> SceneFile {
         vup: [0.0, 1.0, 0.0],
         vfov: 20.0,
         aperture: 0.1,
-        focus_dist: 10.0,
+        focus_dist: Some(10.0),
         aspect: 1.5,
     };
     SceneFile { spheres, ..SceneFile::new(camera, BackgroundSpec::default()) }
@@ -192,7 +192,7 @@ pub fn next_week_scene(scene_seed: u64) -> SceneFile {
         vup: [0.0, 1.0, 0.0],
         vfov: 40.0,
         aperture: 0.0,
-        focus_dist: 10.0,
+        focus_dist: Some(10.0),
         aspect: 1.0,
     };
     let mut scene = SceneFile::new(camera, BackgroundSpec::Black);

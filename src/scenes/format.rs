@@ -7,7 +7,7 @@
 //! vup = [0.0, 1.0, 0.0]
 //! vfov = 20.0          # vertical field of view, degrees
 //! aperture = 0.1       # lens diameter; 0 = pinhole
-//! focus_dist = 10.0
+//! focus_dist = 10.0     # default: the distance from lookfrom to lookat
 //! aspect = 1.5         # width / height when --height is not given (default 1.5)
 //!
 //! [background]
@@ -254,7 +254,7 @@ impl SceneFile {
             check(finite3(v), || format!("camera.{name} must be finite numbers, got {v:?}"))?;
         }
         for (name, x) in
-            [("vfov", c.vfov), ("aperture", c.aperture), ("focus_dist", c.focus_dist), ("aspect", c.aspect)]
+            [("vfov", c.vfov), ("aperture", c.aperture), ("focus_dist", c.focus()), ("aspect", c.aspect)]
         {
             if !representable(x) {
                 return Err(format!("camera.{name} must be a finite number (as {REAL}), got {x}"));
@@ -264,7 +264,7 @@ impl SceneFile {
             format!("camera.vfov must be in (0, 180) degrees, got {}", c.vfov)
         })?;
         check(c.aperture >= 0.0, || format!("camera.aperture must be ≥ 0, got {}", c.aperture))?;
-        check(c.focus_dist > 0.0, || format!("camera.focus_dist must be > 0, got {}", c.focus_dist))?;
+        check(c.focus() > 0.0, || format!("camera.focus_dist must be > 0, got {}", c.focus()))?;
         check(c.aspect > 0.0, || format!("camera.aspect must be > 0, got {}", c.aspect))?;
         let (view, vup) = (DVec3::from(c.lookat) - DVec3::from(c.lookfrom), DVec3::from(c.vup));
         check(view != DVec3::ZERO, || "camera.lookfrom and camera.lookat are the same point".to_owned())?;

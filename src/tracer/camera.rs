@@ -26,11 +26,29 @@ pub struct CameraSettings {
     /// Lens diameter; 0 = pinhole (no defocus blur).
     #[serde(default)]
     pub aperture: f64,
-    /// Distance from `lookfrom` to the plane in perfect focus.
-    pub focus_dist: f64,
+    /// Distance from `lookfrom` to the plane in perfect focus; absent: the distance to
+    /// `lookat` (so what the camera looks at is sharp), as [`CameraSettings::focus`] says.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focus_dist: Option<f64>,
     /// Image width ÷ height used when the height is not given.
     #[serde(default = "default_aspect")]
     pub aspect: f64,
+}
+
+impl CameraSettings {
+    /// The focus distance: `focus_dist` where given, else the distance from `lookfrom` to
+    /// `lookat`. (For a pinhole it only scales the viewport, and the rays stay the same.)
+    ///
+    /// ```
+    /// use raypool::tracer::camera::CameraSettings;
+    /// let toml = "lookfrom = [0, 0, 3]\nlookat = [0, 4, 0]\nvup = [0, 1, 0]\nvfov = 40";
+    /// let camera: CameraSettings = toml::from_str(toml).unwrap();
+    /// assert_eq!(camera.focus(), 5.0);
+    /// ```
+    pub fn focus(&self) -> f64 {
+        let (a, b) = (self.lookfrom, self.lookat);
+        self.focus_dist.unwrap_or_else(|| (0..3).map(|k| (a[k] - b[k]).powi(2)).sum::<f64>().sqrt())
+    }
 }
 
 fn default_aspect() -> f64 {
@@ -57,7 +75,7 @@ impl Camera {
     /// `settings.aspect` only serves to choose a default height).
     pub fn new(settings: &CameraSettings, width: u32, height: u32) -> Camera {
         let center = vec3(settings.lookfrom);
-        let focus = settings.focus_dist as Real;
+        let focus = settings.focus() as Real;
         let h = (settings.vfov as Real).to_radians() * 0.5;
         let viewport_height = 2.0 * h.tan() * focus;
         let viewport_width = viewport_height * width as Real / height as Real;

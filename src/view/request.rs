@@ -227,7 +227,8 @@ fn move_camera(scene: &mut SceneFile, eye: [f64; 3]) -> Result<(), Error> {
         )));
     }
     if before > 0.0 && after.is_finite() {
-        c.focus_dist *= after / before;
+        // An absent focus_dist follows the eye by itself (it is the distance to lookat).
+        c.focus_dist = c.focus_dist.map(|focus| focus * after / before);
     }
     c.lookfrom = eye;
     scene.validate().map_err(|e| Error::new(format!("lookfrom: {e}")))
