@@ -137,6 +137,7 @@ cargo bench --no-run "${features[@]}" >/dev/null 2>&1 # target/release/raypool: 
     echo
     echo "Each step's output is in \`logs/\`. Not regenerated here: the records of one-off"
     echo "investigations (\`perf.md\`, \`accumulation.md\`, \`adaptive.md\`, \`sobol-spp.md\`,"
-    echo "\`tile-size.md\`, \`fullsize.md\`, \`pool-mutants.md\`, \`course/\`), which name their own commands."
+    echo "\`tile-size.md\`, \`fullsize.md\`, \`pool-mutants.md\`, \`course/\`, \`cores16.md\` and \`cores16/\`, measured on"
+    echo "a 16-core machine by \`benches/many-cores.sh\`), which name their own commands."
 } >"$out/all.md"
 echo "done in $((SECONDS - total_start)) s: $out/all.md"
