@@ -200,3 +200,46 @@ fn a_glowing_mesh_of_many_triangles_is_aimed_at_through_its_tree_with_the_right_
     // (A direction along a shared edge meets two triangles: rare.)
     assert!(mismatched <= 20, "{mismatched} of 100,000 samples' densities differ from pdf's");
 }
+
+#[test]
+fn a_shadow_ray_weighs_its_point_as_the_bounce_that_meets_it_does_even_on_small_far_spheres() {
+    // 300 sphere lights of radius 0.03 about 5 away, apart from each other, and two that
+    // overlap. For samples of each, the ray towards it meets a sphere at a point; the shadow
+    // ray's density (`pdf_of_sample`) must be what the bounce meeting that point looks up
+    // (`pdf_of_point` at the hit), or the two weights of the point would not sum to 1. Looking
+    // the drawn point up instead missed its sphere near the cone's rim (the drawn point's
+    // rounding is large beside a 0.03 sphere) and took it for a flat light.
+    let lamp = Material::DiffuseLight { emit: Vec3::splat(3.0), albedo: 0.0 };
+    let mut rng = SmallRng::seed_from_u64(9);
+    let mut objects: Vec<Object> = (0..300)
+        .map(|k| {
+            let (turn, height) = (k as Real * 0.021, (k % 10) as Real * 0.1 - 0.5);
+            let center = Vec3::new(5.0 * turn.cos(), height, 5.0 * turn.sin());
+            Object::Sphere(Sphere { center, radius: 0.03, material: 0 })
+        })
+        .collect();
+    let pair = [Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.1, 3.0, 0.0)];
+    objects.extend(pair.map(|center| Object::Sphere(Sphere { center, radius: 0.2, material: 0 })));
+    let lights = Lights::new(&objects, &[lamp]);
+    let probe = Probe::default();
+    let (mut small, mut overlapping) = (0, 0);
+    while small < 20_000 || overlapping < 200 {
+        let sample = lights.sample(Vec3::ZERO, 0.0, &mut rng).unwrap();
+        let shadow = lights.pdf_of_sample(Vec3::ZERO, &sample, 0.0);
+        if sample.point.y > 2.0 {
+            // The overlapping pair: the lookup of the drawn point, as before.
+            let looked_up = lights.pdf_of_point(Vec3::ZERO, sample.point, sample.normal, sample.emitted, 0.0);
+            assert_eq!(shadow.to_bits(), looked_up.to_bits());
+            overlapping += 1;
+            continue;
+        }
+        // A sphere apart: whatever point of it a bounce meets, it looks up this cone density.
+        assert_eq!(shadow, sample.pdf, "{sample:?}");
+        small += 1;
+        let ray = Ray::new(Vec3::ZERO, sample.dir);
+        let hits = objects.iter().filter_map(|o| o.hit(&ray, Real::INFINITY, &probe));
+        let Some(hit) = hits.min_by(|a, b| a.t.total_cmp(&b.t)) else { continue };
+        let bounce = lights.pdf_of_point(Vec3::ZERO, hit.point, hit.normal, sample.emitted, 0.0);
+        assert!((shadow / bounce - 1.0).abs() < 2e-3, "shadow ray {shadow}, bounce {bounce}, {sample:?}");
+    }
+}

@@ -113,7 +113,7 @@ pub fn next_event<R: SampleRng + ?Sized>(
     }
     // Weighed as a bounce that met this point would weigh it (`render.rs`), so the two
     // weights of the point sum to 1.
-    let light_pdf = lights.pdf_of_point(hit.point, toward.point, toward.normal, toward.emitted, probe.time);
+    let light_pdf = lights.pdf_of_sample(hit.point, &toward, probe.time);
     toward.emitted * (factor / toward.pdf) * power_heuristic(light_pdf, factor)
 }
 

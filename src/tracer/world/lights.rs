@@ -14,7 +14,9 @@
 //!   reaching an emitter's point by [`Lights::pdf_of_point`], the density of drawing that very
 //!   point, computed from the point alone so that a shadow ray and a bounce that reach the
 //!   same point weigh it the same (the weights of a point then sum to 1, and the estimate stays
-//!   unbiased). The third book's mixture needs the density of a *direction* over every light
+//!   unbiased). A shadow ray towards a light that no other sphere light comes near takes its
+//!   sample's own density instead ([`Lights::pdf_of_sample`]), which is what that lookup finds
+//!   on such a light, without the lookup. The third book's mixture needs the density of a *direction* over every light
 //!   it crosses ([`Lights::pdf`]): a sum over the lights whose boxes the direction enters,
 //!   found through a four-wide tree of them (as a group's objects are) once there are six.
 
@@ -70,6 +72,8 @@ pub struct LightSample {
     /// What the point gives off towards the shading point (zero from behind: a light emits
     /// from its front only).
     pub emitted: Vec3,
+    /// Which light it was drawn on (for [`Lights::pdf_of_sample`]).
+    pub light: usize,
 }
 
 /// The scene's lights and the probabilities of choosing each.
@@ -86,6 +90,8 @@ pub struct Lights {
     total: Real,
     /// Which of `shapes` are spheres (a hit on one is told apart by where it lies).
     spheres: Vec<usize>,
+    /// Per light, whether no other sphere light comes near it ([`apart`]).
+    apart: Vec<bool>,
     /// Whether some emitting mesh is shaded by normals from its file: a hit on it then tells
     /// the shading normal, not the face's ([`Lights::pdf_of_hit`] looks the face up).
     shaded: bool,
@@ -129,6 +135,7 @@ impl Lights {
         let spheres = found.iter().enumerate().filter(|(_, l)| matches!(l.0, Shape::Sphere(_)));
         let spheres = spheres.map(|(k, _)| k).collect();
         let emit = found.iter().map(|l| l.2).collect();
+        let apart = apart(&found);
         Lights {
             shapes: found.into_iter().map(|l| l.0).collect(),
             chance,
@@ -136,6 +143,7 @@ impl Lights {
             running,
             total,
             spheres,
+            apart,
             shaded,
             tree,
         }
@@ -168,7 +176,7 @@ impl Lights {
             let pdf = chance * distance * distance / (cos.abs() * area);
             // From its front (the direction against the normal), as `Quad::hit_at` decides.
             let emitted = if cos < 0.0 { emit } else { Vec3::ZERO };
-            let sample = LightSample { dir, distance, pdf, point, normal, emitted };
+            let sample = LightSample { dir, distance, pdf, point, normal, emitted, light: k };
             (distance > 0.0 && pdf > 0.0 && pdf.is_finite()).then_some(sample)
         };
         match &self.shapes[k] {
@@ -200,7 +208,7 @@ impl Lights {
                 let normal = (point - sphere.center) / r;
                 // Seen from outside: the front of a sphere, the back of an inward shell.
                 let emitted = if r > 0.0 { emit } else { Vec3::ZERO };
-                Some(LightSample { dir, distance, pdf, point, normal, emitted })
+                Some(LightSample { dir, distance, pdf, point, normal, emitted, light: k })
             }
         }
     }
@@ -251,6 +259,32 @@ impl Lights {
         if let Some(pdf) = self.sphere_pdf_of_point(from, point, time) {
             return pdf;
         }
+        self.pdf_by_area(from, point, normal, emitted)
+    }
+
+    /// The density [`Lights::pdf_of_point`] gives the light point `sample` drew (from `from`,
+    /// at `time`). Where its light is apart from every other sphere light, that is the same at
+    /// every point of the light, and taken without the lookup: a sphere's cone density (the
+    /// sample's own, computed by the same expression), or a flat light's by area. The lookup
+    /// cost as much as the shadow ray with many sphere lights, and missed the drawn point of a
+    /// small far sphere near its rim, where rounding puts that point off the surface. Other
+    /// lights: the lookup of the drawn point.
+    #[inline]
+    pub fn pdf_of_sample(&self, from: Vec3, sample: &LightSample, time: Real) -> Real {
+        let (point, normal, emitted) = (sample.point, sample.normal, sample.emitted);
+        if !self.apart[sample.light] {
+            return self.pdf_of_point(from, point, normal, emitted, time);
+        }
+        match self.shapes[sample.light] {
+            Shape::Sphere(_) => sample.pdf,
+            Shape::Quad(_) | Shape::Triangle(..) => self.pdf_by_area(from, point, normal, emitted),
+        }
+    }
+
+    /// The density per unit solid angle of drawing `point` on a flat light (every flat light
+    /// has the same density per unit area); 0 where not finite.
+    #[inline]
+    fn pdf_by_area(&self, from: Vec3, point: Vec3, normal: Vec3, emitted: Vec3) -> Real {
         let to = point - from;
         let d2 = to.length_squared();
         let pdf = luminance(emitted) / self.total * d2 / (to.dot(normal).abs() / d2.sqrt());
@@ -381,6 +415,28 @@ fn collect(
             _ => {}
         }
     }
+}
+
+/// Per light, whether no *other* sphere light comes near it: their boxes, widened by a
+/// hundredth of their size (far more than [`Lights::pdf_of_point`]'s tolerance of a point on a
+/// sphere, `|d² − r²| ≤ 10⁻³ r²`, and than a drawn point's rounding), do not meet. A point
+/// drawn on such a light then lies on no other sphere. Tested against the sphere lights in
+/// order of their boxes' lower x, stopping past the light's upper x.
+fn apart(found: &[(Shape, Real, Vec3)]) -> Vec<bool> {
+    let reach = |light: &(Shape, Real, Vec3)| {
+        let b = light.bounds();
+        b.padded(0.01 * (b.max - b.min).length() + 8.0 * Real::EPSILON * b.magnitude())
+    };
+    let spheres = found.iter().enumerate().filter(|(_, l)| matches!(l.0, Shape::Sphere(_)));
+    let mut spheres: Vec<(usize, Aabb)> = spheres.map(|(k, l)| (k, reach(l))).collect();
+    spheres.sort_by(|a, b| a.1.min.x.total_cmp(&b.1.min.x));
+    let meet = |a: &Aabb, b: &Aabb| a.min.cmple(b.max).all() && b.min.cmple(a.max).all();
+    let alone = |(k, light): (usize, &(Shape, Real, Vec3))| {
+        let own = reach(light);
+        let near = spheres.iter().take_while(|(_, other)| other.min.x <= own.max.x);
+        !near.into_iter().any(|(j, other)| *j != k && meet(&own, other))
+    };
+    found.iter().enumerate().map(alone).collect()
 }
 
 impl Bounded for (Shape, Real, Vec3) {
