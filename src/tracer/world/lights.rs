@@ -16,9 +16,10 @@
 //!   same point weigh it the same (the weights of a point then sum to 1, and the estimate stays
 //!   unbiased). A shadow ray towards a light that no other sphere light comes near takes its
 //!   sample's own density instead ([`Lights::pdf_of_sample`]), which is what that lookup finds
-//!   on such a light, without the lookup. The third book's mixture needs the density of a *direction* over every light
-//!   it crosses ([`Lights::pdf`]): a sum over the lights whose boxes the direction enters,
-//!   found through a four-wide tree of them (as a group's objects are) once there are six.
+//!   on such a light, without the lookup. The third book's mixture needs the density of a
+//!   *direction* over every light it crosses ([`Lights::pdf`]): a sum over the lights whose
+//!   boxes the direction enters, found through a four-wide tree of them (as a group's objects
+//!   are) once there are six.
 
 use std::f64::consts::PI;
 
