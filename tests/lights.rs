@@ -206,9 +206,9 @@ fn a_shadow_ray_weighs_its_point_as_the_bounce_that_meets_it_does_even_on_small_
     // 300 sphere lights of radius 0.03 about 5 away, apart from each other, and two that
     // overlap. For samples of each, the ray towards it meets a sphere at a point; the shadow
     // ray's density (`pdf_of_sample`) must be what the bounce meeting that point looks up
-    // (`pdf_of_point` at the hit), or the two weights of the point would not sum to 1. Looking
-    // the drawn point up instead missed its sphere near the cone's rim (the drawn point's
-    // rounding is large beside a 0.03 sphere) and took it for a flat light.
+    // (`pdf_of_point` at the hit), or the two weights of the point would not sum to 1. The
+    // drawn point, once computed from the origin, missed its sphere near the cone's rim (by
+    // more than the lookup's tolerance beside a 0.03 sphere) and was taken for a flat light's.
     let lamp = Material::DiffuseLight { emit: Vec3::splat(3.0), albedo: 0.0 };
     let mut rng = SmallRng::seed_from_u64(9);
     let mut objects: Vec<Object> = (0..300)
@@ -233,8 +233,11 @@ fn a_shadow_ray_weighs_its_point_as_the_bounce_that_meets_it_does_even_on_small_
             overlapping += 1;
             continue;
         }
-        // A sphere apart: whatever point of it a bounce meets, it looks up this cone density.
+        // A sphere apart: whatever point of it a bounce meets, it looks up this cone density,
+        // the drawn point too (it lies on the surface).
         assert_eq!(shadow, sample.pdf, "{sample:?}");
+        let at_drawn = lights.pdf_of_point(Vec3::ZERO, sample.point, sample.normal, sample.emitted, 0.0);
+        assert_eq!(at_drawn, sample.pdf, "the drawn point off its sphere: {sample:?}");
         small += 1;
         let ray = Ray::new(Vec3::ZERO, sample.dir);
         let hits = objects.iter().filter_map(|o| o.hit(&ray, Real::INFINITY, &probe));

@@ -194,18 +194,30 @@ impl Lights {
             Shape::Sphere(moving) => {
                 let sphere = moving.at(time);
                 let (axis, cos_max) = cone(&sphere, from)?;
-                let cos = 1.0 - a * (1.0 - cos_max);
-                let sin = (1.0 - cos * cos).max(0.0).sqrt();
+                // θ uniform in cos θ over the cone; sin² θ from 1 − cos θ, which does not
+                // cancel near the axis as 1 − cos² θ would.
+                let one_minus_cos = a * (1.0 - cos_max);
+                let cos = 1.0 - one_minus_cos;
+                let sin2 = one_minus_cos * (2.0 - one_minus_cos);
+                // The point where that direction meets the sphere's near side, built on the
+                // sphere from the angle α it makes at the centre (pbrt-v4's
+                // `Sphere::Sample`): from `from`, `d cos θ − √(r² − d² sin² θ)` cancels near
+                // the rim and left small far spheres' points off their surface. A ray test
+                // would miss now and then at the grazing rim.
+                let r = sphere.radius.abs();
+                let sin_max2 = r * r / (sphere.center - from).length_squared();
+                let ratio = sin2 / sin_max2;
+                let cos_alpha = ratio * sin_max2.sqrt() + cos * (1.0 - ratio).max(0.0).sqrt();
+                let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
                 let (s, c) = (2.0 * PI_REAL * b).sin_cos();
                 let (t1, t2) = axis.any_orthonormal_pair();
-                let dir = (cos * axis + sin * (c * t1 + s * t2)).normalize();
-                // The near side of the sphere along `dir`, from the angle itself (as pbrt
-                // does): a ray test would miss now and then at the cone's grazing edge.
-                let d = (sphere.center - from).length();
-                let r = sphere.radius;
-                let distance = d * cos - (r * r - d * d * sin * sin).max(0.0).sqrt();
+                let outward = -cos_alpha * axis + sin_alpha * (c * t1 + s * t2);
+                let point = sphere.center + r * outward;
+                let to = point - from;
+                let distance = to.length();
+                let dir = to / distance;
                 let pdf = chance / (2.0 * PI_REAL * (1.0 - cos_max));
-                let point = from + distance * dir;
+                let r = sphere.radius;
                 let normal = (point - sphere.center) / r;
                 // Seen from outside: the front of a sphere, the back of an inward shell.
                 let emitted = if r > 0.0 { emit } else { Vec3::ZERO };
