@@ -28,6 +28,11 @@ impl Aabb {
         Aabb { min: self.min.min(p), max: self.max.max(p) }
     }
 
+    /// Whether the two boxes share a point (touching counts).
+    pub fn meets(&self, other: &Aabb) -> bool {
+        self.min.cmple(other.max).all() && other.min.cmple(self.max).all()
+    }
+
     /// The box grown by `pad` on every side.
     pub fn padded(self, pad: Real) -> Aabb {
         Aabb { min: self.min - Vec3::splat(pad), max: self.max + Vec3::splat(pad) }

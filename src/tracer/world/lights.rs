@@ -7,19 +7,16 @@
 //!   then drawn uniformly by area, so a point on any of them has the same density per unit
 //!   area, `luminance(emit) / total power`: a hit knows it without knowing which light it is.
 //! - **A point on it**: a quad or triangle uniformly by area (density `d²/(cos θ·A)` per
-//!   solid angle); a sphere by the cone of directions it subtends from the point (uniform in
-//!   that cone, density `1/(2π(1 − cos θmax))`), which wastes no sample on its far side.
+//!   solid angle); a sphere uniformly over the [`Cone`] it fills from the point.
 //! - **Densities**: a sample carries the exact density with which it was drawn, which the
 //!   shadow ray's estimate divides by. Multiple importance sampling weighs the two ways of
 //!   reaching an emitter's point by [`Lights::pdf_of_point`], the density of drawing that very
 //!   point, computed from the point alone so that a shadow ray and a bounce that reach the
 //!   same point weigh it the same (the weights of a point then sum to 1, and the estimate stays
-//!   unbiased). A shadow ray towards a light that no other sphere light comes near takes its
-//!   sample's own density instead ([`Lights::pdf_of_sample`]), which is what that lookup finds
-//!   on such a light, without the lookup. The third book's mixture needs the density of a
-//!   *direction* over every light it crosses ([`Lights::pdf`]): a sum over the lights whose
-//!   boxes the direction enters, found through a four-wide tree of them (as a group's objects
-//!   are) once there are six.
+//!   unbiased); [`Lights::pdf_of_sample`] skips the lookup where only one answer is possible.
+//!   The third book's mixture needs the density of a *direction* over every light it crosses
+//!   ([`Lights::pdf`]): a sum over the lights whose boxes the direction enters, found through
+//!   a four-wide tree of them (as a group's objects are) once there are six.
 
 use std::f64::consts::PI;
 
@@ -27,10 +24,10 @@ use rand::Rng;
 
 use crate::tracer::accel::bvh::Bvh;
 use crate::tracer::accel::wide::WideBvh;
+use crate::tracer::geometry::cone::Cone;
 use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
-use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::geometry::triangle;
 use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
@@ -42,9 +39,6 @@ use crate::tracer::world::object::{Object, TREE_MIN_OBJECTS};
 
 /// Lights per leaf of the lights' tree.
 const LEAF: usize = 4;
-
-/// π in the tracer's precision.
-const PI_REAL: Real = PI as Real;
 
 /// One light's shape, in world space.
 #[derive(Clone, Debug)]
@@ -73,7 +67,7 @@ pub struct LightSample {
     /// What the point gives off towards the shading point (zero from behind: a light emits
     /// from its front only).
     pub emitted: Vec3,
-    /// Which light it was drawn on (for [`Lights::pdf_of_sample`]).
+    /// Which light it was drawn on.
     pub light: usize,
 }
 
@@ -194,25 +188,7 @@ impl Lights {
             Shape::Sphere(moving) => {
                 let sphere = moving.at(time);
                 let cone = Cone::of(&sphere, from)?;
-                // θ uniform in cos θ over the cone; sin² θ from 1 − cos θ, which does not
-                // cancel near the axis as 1 − cos² θ would.
-                let one_minus_cos = a * cone.one_minus_cos_max;
-                let cos = 1.0 - one_minus_cos;
-                let sin2 = one_minus_cos * (2.0 - one_minus_cos);
-                let (s, c) = (2.0 * PI_REAL * b).sin_cos();
-                let (t1, t2) = cone.axis.any_orthonormal_pair();
-                let across = c * t1 + s * t2;
-                let dir = (cos * cone.axis + sin2.sqrt() * across).normalize();
-                // The point where `dir` meets the sphere's near side, built on the sphere from
-                // the angle α it makes at the centre (pbrt-v4's `Sphere::Sample`): from `from`,
-                // `d cos θ − √(r² − d² sin² θ)` cancels near the rim and left small far
-                // spheres' points off their surface. A ray test would miss now and then at the
-                // grazing rim.
-                let ratio = (sin2 / cone.sin2_max).min(1.0);
-                let cos_alpha = ratio * cone.sin2_max.sqrt() + cos * (1.0 - ratio).sqrt();
-                let sin_alpha = (1.0 - cos_alpha * cos_alpha).max(0.0).sqrt();
-                let point =
-                    sphere.center + sphere.radius.abs() * (sin_alpha * across - cos_alpha * cone.axis);
+                let (dir, point) = cone.draw(&sphere, a, b);
                 let distance = (point - from).length();
                 let pdf = cone.density(chance);
                 let r = sphere.radius;
@@ -273,13 +249,10 @@ impl Lights {
         self.pdf_by_area(from, point, normal, emitted)
     }
 
-    /// The density [`Lights::pdf_of_point`] gives the light point `sample` drew (from `from`,
-    /// at `time`). Where its light is apart from every other sphere light, that is the same at
-    /// every point of the light, and taken without the lookup: a sphere's cone density (the
-    /// sample's own, computed by the same expression), or a flat light's by area. The lookup
-    /// cost as much as the shadow ray with many sphere lights, and missed the drawn point of a
-    /// small far sphere near its rim, where rounding puts that point off the surface. Other
-    /// lights: the lookup of the drawn point.
+    /// The density [`Lights::pdf_of_point`] gives the point `sample` drew (from `from`, at
+    /// `time`); for a light apart from every other sphere light, without its lookup (which
+    /// cost as much as the shadow ray with many sphere lights): the sample's own cone density,
+    /// computed by the same expression, or a flat light's by area.
     #[inline]
     pub fn pdf_of_sample(&self, from: Vec3, sample: &LightSample, time: Real) -> Real {
         let (point, normal, emitted) = (sample.point, sample.normal, sample.emitted);
@@ -387,7 +360,7 @@ fn collect(
     let glow = |material: u32| luminance(emit(material));
     let sphere = |moving: MovingSphere| {
         let (center0, center1) = (place.point(moving.center0), place.point(moving.center1));
-        let power = glow(moving.material) * 4.0 * PI_REAL * moving.radius * moving.radius;
+        let power = glow(moving.material) * 4.0 * PI as Real * moving.radius * moving.radius;
         (Shape::Sphere(MovingSphere { center0, center1, ..moving }), power, emit(moving.material))
     };
     for object in objects {
@@ -426,11 +399,9 @@ fn collect(
     }
 }
 
-/// Per light, whether no *other* sphere light comes near it: their boxes, widened by a
-/// hundredth of their size (far more than [`Lights::pdf_of_point`]'s tolerance of a point on a
-/// sphere, `|d² − r²| ≤ 10⁻³ r²`, and than a drawn point's rounding), do not meet. A point
-/// drawn on such a light then lies on no other sphere. Tested against the sphere lights in
-/// order of their boxes' lower x, stopping past the light's upper x.
+/// Per light, whether no *other* sphere light comes near it (their boxes, widened by 1% of
+/// their size, far beyond the lookup's tolerance `|d² − r²| ≤ 10⁻³ r²`, do not meet), so that
+/// its points lie on no other sphere. Sphere lights are swept in order of their lower x.
 fn apart(found: &[(Shape, Real, Vec3)]) -> Vec<bool> {
     let reach = |light: &(Shape, Real, Vec3)| {
         let b = light.bounds();
@@ -439,11 +410,10 @@ fn apart(found: &[(Shape, Real, Vec3)]) -> Vec<bool> {
     let spheres = found.iter().enumerate().filter(|(_, l)| matches!(l.0, Shape::Sphere(_)));
     let mut spheres: Vec<(usize, Aabb)> = spheres.map(|(k, l)| (k, reach(l))).collect();
     spheres.sort_by(|a, b| a.1.min.x.total_cmp(&b.1.min.x));
-    let meet = |a: &Aabb, b: &Aabb| a.min.cmple(b.max).all() && b.min.cmple(a.max).all();
     let alone = |(k, light): (usize, &(Shape, Real, Vec3))| {
         let own = reach(light);
-        let near = spheres.iter().take_while(|(_, other)| other.min.x <= own.max.x);
-        !near.into_iter().any(|(j, other)| *j != k && meet(&own, other))
+        let mut near = spheres.iter().take_while(|(_, other)| other.min.x <= own.max.x);
+        !near.any(|(j, other)| *j != k && own.meets(other))
     };
     found.iter().enumerate().map(alone).collect()
 }
@@ -470,46 +440,6 @@ impl Bounded for (Shape, Real, Vec3) {
 /// A quad's area.
 fn quad_area(quad: &Quad) -> Real {
     quad.u.cross(quad.v).length()
-}
-
-/// The cone of directions a sphere fills as seen from a point outside it.
-struct Cone {
-    /// Unit, towards the centre.
-    axis: Vec3,
-    /// sin² of its half-angle, `r² / d²`.
-    sin2_max: Real,
-    /// `1 − cos θmax`, as `sin² θmax / (1 + cos θmax)`: the plain form cancels for a small far
-    /// sphere (up to 0.3% off at a radius 0.03 five away, in f32).
-    one_minus_cos_max: Real,
-}
-
-impl Cone {
-    /// The cone `sphere` fills from `from`; `None` from inside or on the sphere.
-    fn of(sphere: &Sphere, from: Vec3) -> Option<Cone> {
-        let to = sphere.center - from;
-        let d2 = to.length_squared();
-        let sin2_max = sphere.radius * sphere.radius / d2;
-        if sin2_max.is_nan() || sin2_max >= 1.0 {
-            return None;
-        }
-        let one_minus_cos_max = sin2_max / (1.0 + (1.0 - sin2_max).sqrt());
-        (one_minus_cos_max > 0.0).then(|| Cone { axis: to / d2.sqrt(), sin2_max, one_minus_cos_max })
-    }
-
-    /// The density per unit solid angle of a direction drawn uniformly in it, times `chance`
-    /// (one expression, so that a sample and a lookup of its point give the same bits).
-    fn density(&self, chance: Real) -> Real {
-        chance / (2.0 * PI_REAL * self.one_minus_cos_max)
-    }
-
-    /// Whether the unit `dir` lies in it: by the sine, whose f32 resolution stays fine near the
-    /// axis where the cosine's does not (a tiny cone is a few hundred ulps of its cosine wide),
-    /// with room for a drawn direction's own rounding at the rim (a few ε in its sine, however
-    /// small).
-    fn contains(&self, dir: Vec3) -> bool {
-        let sin_max = self.sin2_max.sqrt() + 8.0 * Real::EPSILON;
-        dir.dot(self.axis) > 0.0 && dir.cross(self.axis).length_squared() <= sin_max * sin_max
-    }
 }
 
 /// The luminance of a linear RGB colour (Rec. 709 weights).
