@@ -410,9 +410,11 @@ fn apart(found: &[(Shape, Real, Vec3)]) -> Vec<bool> {
     let spheres = found.iter().enumerate().filter(|(_, l)| matches!(l.0, Shape::Sphere(_)));
     let mut spheres: Vec<(usize, Aabb)> = spheres.map(|(k, l)| (k, reach(l))).collect();
     spheres.sort_by(|a, b| a.1.min.x.total_cmp(&b.1.min.x));
+    let widest = spheres.iter().fold(0.0, |w: Real, (_, b)| w.max(b.max.x - b.min.x));
     let alone = |(k, light): (usize, &(Shape, Real, Vec3))| {
         let own = reach(light);
-        let mut near = spheres.iter().take_while(|(_, other)| other.min.x <= own.max.x);
+        let first = spheres.partition_point(|(_, other)| other.min.x < own.min.x - widest);
+        let mut near = spheres[first..].iter().take_while(|(_, other)| other.min.x <= own.max.x);
         !near.any(|(j, other)| *j != k && own.meets(other))
     };
     found.iter().enumerate().map(alone).collect()
