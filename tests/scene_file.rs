@@ -59,6 +59,10 @@ fn without_focus_dist_the_lookat_distance_is_in_focus() {
     let far = far.replace("lookat = [0.0, 0.0, 0.0]", "lookat = [0.0, 0.0, 0.0]\nfocus_dist = 0.0");
     let error = SceneFile::parse(&far, "zero.toml").unwrap_err().to_string();
     assert!(error.contains("camera.focus_dist must be > 0"), "{error}");
+    // Left out where the eye is the look-at point: the message names the real mistake.
+    let blind = lens("").replace("lookfrom = [0.0, 0.0, 5.0]", "lookfrom = [0.0, 0.0, 0.0]");
+    let error = SceneFile::parse(&blind, "blind.toml").unwrap_err().to_string();
+    assert!(error.contains("camera.lookfrom and camera.lookat are the same point"), "{error}");
 }
 
 #[test]

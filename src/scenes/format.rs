@@ -264,7 +264,9 @@ impl SceneFile {
             format!("camera.vfov must be in (0, 180) degrees, got {}", c.vfov)
         })?;
         check(c.aperture >= 0.0, || format!("camera.aperture must be ≥ 0, got {}", c.aperture))?;
-        check(c.focus() > 0.0, || format!("camera.focus_dist must be > 0, got {}", c.focus()))?;
+        // Absent, it is the distance to lookat, which the check of the two points below keeps > 0.
+        let focus = c.focus_dist.unwrap_or(1.0);
+        check(focus > 0.0, || format!("camera.focus_dist must be > 0, got {focus}"))?;
         check(c.aspect > 0.0, || format!("camera.aspect must be > 0, got {}", c.aspect))?;
         let (view, vup) = (DVec3::from(c.lookat) - DVec3::from(c.lookfrom), DVec3::from(c.vup));
         check(view != DVec3::ZERO, || "camera.lookfrom and camera.lookat are the same point".to_owned())?;
