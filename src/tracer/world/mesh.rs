@@ -13,7 +13,7 @@
 use crate::tracer::accel::bvh::Bvh;
 use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::geometry::hit::{Closest, Hit};
-use crate::tracer::geometry::triangle::{self, LANES, RayFrame, TriangleHit, Triangles4};
+use crate::tracer::geometry::triangle::{self, RayFrame, TriangleHit, Triangles4};
 use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
@@ -39,13 +39,12 @@ pub struct Mesh {
     offset: Real,
 }
 
-/// A leaf of the tree: its triangles' corners for the four-lane test, and which triangle
-/// each lane holds (a leaf of fewer than four repeats its last in the spare lanes, so a hit
-/// there is offered twice, harmlessly).
+/// A leaf of the tree: its triangles' corners for the four-lane test (spare lanes never
+/// hit), and the first of its triangles, which follow in lane order.
 #[derive(Clone, Copy, Debug)]
 struct Leaf {
     corners: Triangles4,
-    triangles: [u32; LANES],
+    first: u32,
 }
 
 /// A triangle while the tree is built: its indices, box and centre.
@@ -125,8 +124,7 @@ impl Mesh {
                     .iter()
                     .map(|t| t.indices.map(|i| positions[i as usize]))
                     .collect();
-                let triangles = std::array::from_fn(|lane| (range.start + lane.min(range.len() - 1)) as u32);
-                Leaf { corners: Triangles4::new(&corners), triangles }
+                Leaf { corners: Triangles4::new(&corners), first: range.start as u32 }
             })
             .collect();
         let triangles = building.iter().map(|t| t.indices).collect();
@@ -172,21 +170,24 @@ impl Mesh {
     #[inline]
     pub fn closest(&self, ray: &Ray, t_max: Real) -> Option<(usize, TriangleHit)> {
         let mut closest = Closest::none(t_max);
-        let mut barycentric = [0.0; 3];
+        // The leaf test's findings for the closest hit so far: copied whole when a lane wins
+        // (about once a ray), its barycentric coordinates worked out once, at the end.
+        let mut best = None;
         let frame = RayFrame::new(ray);
         self.tree.traverse(ray, &mut closest, |leaf, closest| {
             let leaf = &self.leaves[leaf.start];
             let hits = leaf.corners.intersect(&frame, closest.bound());
             for lane in hits.lanes() {
-                let k = leaf.triangles[lane];
+                let k = leaf.first + lane as u32;
                 closest.offer(hits.t(lane), k);
                 if closest.index == k {
-                    barycentric = hits.hit(lane).barycentric;
+                    best = Some((hits, lane));
                 }
             }
         });
-        let (k, t) = closest.found()?;
-        Some((k, TriangleHit { t, barycentric }))
+        let (k, _) = closest.found()?;
+        let (hits, lane) = best.expect("a found triangle was found by a leaf");
+        Some((k, hits.hit(lane)))
     }
 
     /// Whether any triangle is hit in `(0, t_max)`: the search ends at the first found.
