@@ -85,6 +85,7 @@ fn scattering(c: &mut Criterion) {
         front_face: true,
         material: 0,
         offset: 1e-6,
+        lift: 0.0,
         u: 0.0,
         v: 0.0,
     };

@@ -196,8 +196,8 @@ fn four_triangles_in_one_test_each_find_what_they_find_alone_and_what_the_refere
         let packet = Triangles4::new(&triangles).intersect(&RayFrame::new(&ray), Real::INFINITY);
         let found: Vec<usize> = packet.lanes().collect();
         assert!(found.iter().all(|&lane| lane < count), "round {round}: a spare lane hit");
-        for lane in 0..count {
-            let alone = intersect(triangles[lane], &ray, Real::INFINITY);
+        for (lane, &triangle) in triangles.iter().enumerate() {
+            let alone = intersect(triangle, &ray, Real::INFINITY);
             assert_eq!(found.contains(&lane), alone.is_some(), "round {round}, lane {lane}");
             if let Some(alone) = alone {
                 assert_eq!(packet.hit(lane), alone, "round {round}, lane {lane}: bit for bit");

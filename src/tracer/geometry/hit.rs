@@ -20,6 +20,10 @@ pub struct Hit {
     pub material: u32,
     /// How far off the surface a new ray must start to never re-hit it by rounding error.
     pub offset: Real,
+    /// How much farther a ray leaving on the normal's side starts: the height of the smooth
+    /// surface a mesh's vertex normals describe above its flat triangle (`world/mesh.rs`);
+    /// 0 for every other shape.
+    pub lift: Real,
     /// Surface coordinates for textures, each in `[0, 1]` (0 where no texture can look: the
     /// sphere-only scenes never compute them).
     pub u: Real,
@@ -79,13 +83,14 @@ impl Closest {
 impl Hit {
     /// A new ray leaving this hit in the unit direction `dir` (a scattered direction is
     /// one: `shading/material.rs`), started off the surface on the side `dir` points to (outwards
-    /// for reflection, inwards for refraction).
+    /// for reflection, also raised by [`Hit::lift`]; inwards for refraction).
     #[inline]
     pub fn spawn(&self, dir: Vec3) -> Ray {
         debug_assert!((dir.length_squared() - 1.0).abs() < 1e-4, "a unit direction");
-        let side = if dir.dot(self.normal) >= 0.0 { 1.0 } else { -1.0 };
+        // `offset + 0.0` is `offset` to the bit: shapes without a lift spawn as before.
+        let away = if dir.dot(self.normal) >= 0.0 { self.offset + self.lift } else { -self.offset };
         // Not normalised again: a square root and a division on every bounce's critical
         // path, for a vector already unit to within rounding.
-        Ray { origin: self.point + (side * self.offset) * self.normal, dir }
+        Ray { origin: self.point + away * self.normal, dir }
     }
 }

@@ -93,6 +93,7 @@ impl Quad {
             front_face,
             material: self.material,
             offset: self.spawn_offset(),
+            lift: 0.0,
             u,
             v,
         }

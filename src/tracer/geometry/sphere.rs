@@ -110,7 +110,7 @@ impl Sphere {
         let outward = (point - self.center) / self.radius;
         let front_face = ray.dir.dot(outward) < 0.0;
         let normal = if front_face { outward } else { -outward };
-        Hit { t, point, normal, front_face, material: self.material, offset: 0.0, u: 0.0, v: 0.0 }
+        Hit { t, point, normal, front_face, material: self.material, offset: 0.0, lift: 0.0, u: 0.0, v: 0.0 }
     }
 
     /// The full hit record for an intersection at distance `t` found by [`Sphere::intersect`].
@@ -132,6 +132,7 @@ impl Sphere {
             front_face,
             material: self.material,
             offset: self.spawn_offset(),
+            lift: 0.0,
             u: 0.0,
             v: 0.0,
         }

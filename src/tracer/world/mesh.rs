@@ -25,7 +25,8 @@ const LEAF: usize = 4;
 #[derive(Clone, Debug)]
 pub struct Mesh {
     positions: Vec<Vec3>,
-    /// One per position, or empty (then the flat face normal shades).
+    /// One per position, unit length (zero where the file's had none), or empty (then the
+    /// flat face normal shades).
     normals: Vec<Vec3>,
     /// One `(u, v)` per position, or empty (then a triangle's barycentric `(b1, b2)`).
     uvs: Vec<[Real; 2]>,
@@ -110,6 +111,8 @@ impl Mesh {
             let bounds = p.iter().fold(Aabb::EMPTY, |b, &v| b.grow(v));
             building.push(Building { indices, bounds });
         }
+        // Unit once here, not at every hit that raises its point (`Mesh::lift`).
+        let normals = normals.into_iter().map(Vec3::normalize_or_zero).collect();
         let whole = building.iter().fold(Aabb::EMPTY, |b, t| b.union(t.bounds));
         let offset = 8.0 * Real::EPSILON * whole.magnitude();
         // Boxes padded as the spheres' are: a quarter of the spawn offset.
@@ -215,18 +218,19 @@ impl Mesh {
         let geometric = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
         let front_face = ray.dir.dot(geometric) < 0.0;
         let facing = if front_face { geometric } else { -geometric };
+        let point = b0 * p[0] + b1 * p[1] + b2 * p[2];
         // A shading normal, where the file gives them, turned to the side the ray sees.
-        let normal = if self.normals.is_empty() {
-            facing
+        let (normal, lift) = if self.normals.is_empty() {
+            (facing, 0.0)
         } else {
             let n =
                 (b0 * self.normals[i0] + b1 * self.normals[i1] + b2 * self.normals[i2]).normalize_or_zero();
-            if n.dot(facing) > 0.0 {
-                n
-            } else if n == Vec3::ZERO {
-                facing
+            if n == Vec3::ZERO {
+                (facing, 0.0)
             } else {
-                -n
+                let side = if n.dot(facing) > 0.0 { 1.0 } else { -1.0 };
+                let normal = side * n;
+                (normal, self.lift(point, [i0, i1, i2], found.barycentric, side, normal))
             }
         };
         let (u, v) = if self.uvs.is_empty() {
@@ -235,16 +239,26 @@ impl Mesh {
             let uv = |c: usize| b0 * self.uvs[i0][c] + b1 * self.uvs[i1][c] + b2 * self.uvs[i2][c];
             (uv(0), uv(1))
         };
-        Some(Hit {
-            t: found.t,
-            point: b0 * p[0] + b1 * p[1] + b2 * p[2],
-            normal,
-            front_face,
-            material,
-            offset: self.offset,
-            u,
-            v,
-        })
+        Some(Hit { t: found.t, point, normal, front_face, material, offset: self.offset, lift, u, v })
+    }
+
+    /// How far above the flat triangle, along `normal`, rises the curved surface that its
+    /// vertex normals describe, at `point` (barycentric `b` of the triangle whose vertices are
+    /// `corners`; `side` turns the normals to the side the ray came from): Hanika's "Hacking
+    /// the shadow terminator" (2021), as Cycles offsets rays. Where the surface bulges (the
+    /// point lies below a vertex's tangent plane), the point is raised towards each such
+    /// plane, weighted by `b`. A ray that leaves on the normal's side starts that much
+    /// higher ([`Hit::spawn`]): interpolated normals lean away from the flat facets, and a
+    /// bounce drawn about one may point below the facet it leaves, into its own mesh.
+    fn lift(&self, point: Vec3, corners: [usize; 3], b: [Real; 3], side: Real, normal: Vec3) -> Real {
+        let raised: Vec3 = (0..3)
+            .map(|k| {
+                let n = side * self.normals[corners[k]];
+                let below = (point - self.positions[corners[k]]).dot(n).min(0.0);
+                -b[k] * below * n
+            })
+            .sum();
+        raised.dot(normal).max(0.0)
     }
 
     /// The mesh's box.

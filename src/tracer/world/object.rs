@@ -359,6 +359,7 @@ impl Medium {
             front_face: true,
             material: self.material,
             offset: 0.0,
+            lift: 0.0,
             u: 0.0,
             v: 0.0,
         })
