@@ -8,7 +8,17 @@ use raypool::tracer::shading::material::{Material, reflect, refract, schlick};
 use raypool::tracer::shading::texture::Textures;
 
 fn hit(normal: Vec3, front_face: bool) -> Hit {
-    Hit { t: 1.0, point: Vec3::ZERO, normal, front_face, material: 0, offset: 1e-6, lift: 0.0, u: 0.0, v: 0.0 }
+    Hit {
+        t: 1.0,
+        point: Vec3::ZERO,
+        normal,
+        front_face,
+        material: 0,
+        offset: 1e-6,
+        lift: 0.0,
+        u: 0.0,
+        v: 0.0,
+    }
 }
 
 fn unit(v: Vec3) -> bool {

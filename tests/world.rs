@@ -7,12 +7,20 @@ use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3, to_f64};
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
 use raypool::tracer::sampling::sobol::SobolStreams;
+use raypool::tracer::scene::Scene;
 use raypool::tracer::tile::Tile;
 use raypool::tracer::world::object::Probe;
 
 fn render(text: &str, settings: RenderSettings) -> Vec<Vec3> {
-    let scene = SceneFile::parse(text, "test.toml").unwrap_or_else(|e| panic!("{e}")).to_scene();
-    let job = RenderJob::new(scene, settings);
+    render_scene(&parse(text), settings)
+}
+
+fn parse(text: &str) -> Scene {
+    SceneFile::parse(text, "test.toml").unwrap_or_else(|e| panic!("{e}")).to_scene()
+}
+
+fn render_scene(scene: &Scene, settings: RenderSettings) -> Vec<Vec3> {
+    let job = RenderJob::new(scene.clone(), settings);
     let whole = Tile { x: 0, y: 0, width: settings.width, height: settings.height };
     render_tile(&job, &SobolStreams::new(settings.seed), whole).pixels
 }
@@ -397,7 +405,7 @@ fn a_moving_light_leaves_a_streak_as_bright_as_the_share_of_the_shutter_it_cover
 
 /// The mean image of `scene` under `light_sampling` over 8 seeds, per quadrant and channel:
 /// the mean of the 8 and its standard error.
-fn quadrant_means(text: &str, light_sampling: LightSampling) -> Vec<(f64, f64)> {
+fn quadrant_means(scene: &Scene, light_sampling: LightSampling) -> Vec<(f64, f64)> {
     let side = 16;
     let runs: Vec<Vec<f64>> = (1..=8)
         .map(|seed| {
@@ -409,7 +417,7 @@ fn quadrant_means(text: &str, light_sampling: LightSampling) -> Vec<(f64, f64)> 
                 light_sampling,
                 ..Default::default()
             };
-            let pixels = render(text, settings);
+            let pixels = render_scene(scene, settings);
             let mut sums = vec![0.0; 12];
             for (k, p) in pixels.iter().enumerate() {
                 let (i, j) = (k as u32 % side, k as u32 / side);
@@ -433,10 +441,10 @@ fn quadrant_means(text: &str, light_sampling: LightSampling) -> Vec<(f64, f64)> 
 
 /// Each quadrant's mean colour of `text` under `mixture` and `mis` against `bsdf`'s, within 5
 /// standard errors measured from 8 independent renders of each (not a guessed tolerance).
-fn assert_the_three_light_samplings_agree(name: &str, text: &str) {
-    let reference = quadrant_means(text, LightSampling::Bsdf);
+fn assert_the_three_light_samplings_agree(name: &str, scene: &Scene) {
+    let reference = quadrant_means(scene, LightSampling::Bsdf);
     for light_sampling in [LightSampling::Mixture, LightSampling::Mis] {
-        let other = quadrant_means(text, light_sampling);
+        let other = quadrant_means(scene, light_sampling);
         for (k, ((a, sa), (b, sb))) in reference.iter().zip(&other).enumerate() {
             let limit = 5.0 * (sa * sa + sb * sb).sqrt();
             assert!(
@@ -454,7 +462,7 @@ fn the_three_light_samplings_converge_to_the_same_image() {
     // The Cornell box (a quad light) and its smoky twin (light through media).
     for scene in ["cornell", "cornell-smoke"] {
         let text = raypool::scenes::builtin::builtin_scene(scene, 0).unwrap().to_toml();
-        assert_the_three_light_samplings_agree(scene, &text);
+        assert_the_three_light_samplings_agree(scene, &parse(&text));
     }
 }
 
@@ -477,9 +485,9 @@ fn lit_room() -> String {
 fn lights_inside_instances_mesh_triangles_and_moving_lights_are_aimed_at_without_bias() {
     // All four lights of the room are lights, and the three estimators still agree.
     let text = lit_room();
-    let scene = SceneFile::parse(&text, "test.toml").unwrap_or_else(|e| panic!("{e}")).to_scene();
+    let scene = parse(&text);
     assert_eq!(scene.lights().len(), 4, "the group's quad and triangle, the triangle, the sphere");
-    assert_the_three_light_samplings_agree("room", &text);
+    assert_the_three_light_samplings_agree("room", &scene);
 }
 
 #[test]
@@ -731,5 +739,27 @@ fn a_smooth_shaded_mesh_ball_in_the_white_furnace_renders_exactly_its_albedo() {
         }
     }
     assert!(on_ball > 300, "only {on_ball} pixels wholly on the ball");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn a_lamp_touching_a_coarse_smooth_mesh_ball_gets_the_same_light_under_all_three_samplings() {
+    // A 4 × 8-cell ball shaded by its vertex normals, whose smooth surface (`Mesh::lift`)
+    // rises up to 8% of its radius above its facets, with a lamp resting on its top. Raising
+    // only the rays' start left the light samples drawn from the facet: `mis` came out 2.6%
+    // darker than `bsdf` (6 seeds, 64 × 64, 256 spp, standard error 0.1%). Now the light
+    // sample, its shadow ray, its density and the bounce all start from one raised point
+    // (`Hit::departure`).
+    let dir = std::env::temp_dir().join(format!("raypool-world-lamp-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("ball.obj"), smooth_ball_obj(4)).unwrap();
+    let text = "[camera]\nlookfrom = [0.0, 2.5, 3.0]\nlookat = [0.0, 0.3, 0.0]\nvup = [0.0, 1.0, 0.0]\n\
+                vfov = 50.0\naspect = 1.0\n[background]\nkind = \"black\"\n\
+                [[mesh]]\nobj = \"ball.obj\"\nmaterial = { kind = \"lambertian\", albedo = [0.7, 0.7, 0.7] }\n\
+                [[quad]]\nq = [-0.5, 1.0, -0.5]\nu = [1.0, 0.0, 0.0]\nv = [0.0, 0.0, 1.0]\n\
+                material = { kind = \"diffuse_light\", emit = [4.0, 4.0, 4.0] }\n";
+    std::fs::write(dir.join("lamp.toml"), text).unwrap();
+    let scene = SceneFile::read(&dir.join("lamp.toml")).unwrap_or_else(|e| panic!("{e}")).to_scene();
+    assert_the_three_light_samplings_agree("lamp on a smooth ball", &scene);
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -100,7 +100,7 @@ pub fn next_event<R: SampleRng + ?Sized>(
     rays: &mut u64,
 ) -> Vec3 {
     let lights = scene.lights();
-    let Some(toward) = lights.sample(hit.point, probe.time, rng) else { return Vec3::ZERO };
+    let Some(toward) = lights.sample(hit.departure(), probe.time, rng) else { return Vec3::ZERO };
     let factor = lobe_pdf(lobe, toward.dir, hit.normal);
     if factor <= 0.0 || toward.emitted == Vec3::ZERO {
         return Vec3::ZERO;
@@ -113,7 +113,7 @@ pub fn next_event<R: SampleRng + ?Sized>(
     }
     // Weighed as a bounce that met this point would weigh it (`render.rs`), so the two
     // weights of the point sum to 1.
-    let light_pdf = lights.pdf_of_sample(hit.point, &toward, probe.time);
+    let light_pdf = lights.pdf_of_sample(hit.departure(), &toward, probe.time);
     toward.emitted * (factor / toward.pdf) * power_heuristic(light_pdf, factor)
 }
 
@@ -132,11 +132,11 @@ pub fn mixture_bounce<R: SampleRng + ?Sized>(
     rng: &mut R,
 ) -> bool {
     if uniform(rng) < 0.5 {
-        let Some(toward) = lights.sample(hit.point, time, rng) else { return false };
+        let Some(toward) = lights.sample(hit.departure(), time, rng) else { return false };
         scatter.direction = toward.dir;
     }
     let lobe_density = lobe_pdf(lobe, scatter.direction, hit.normal);
-    let mixture = 0.5 * lights.pdf(hit.point, scatter.direction, time) + 0.5 * lobe_density;
+    let mixture = 0.5 * lights.pdf(hit.departure(), scatter.direction, time) + 0.5 * lobe_density;
     if lobe_density <= 0.0 || mixture <= 0.0 {
         return false;
     }

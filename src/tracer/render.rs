@@ -383,7 +383,7 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
                     let shadow = Probe { medium_seed: medium_seed ^ SHADOW_KEY, ..start };
                     let direct = next_event(scene, &hit, lobe, shadow, rng, rays);
                     radiance += throughput * scatter.attenuation * direct;
-                    weighed = Some((hit.point, lobe_pdf(lobe, scatter.direction, hit.normal)));
+                    weighed = Some((hit.departure(), lobe_pdf(lobe, scatter.direction, hit.normal)));
                 }
                 LightSampling::Mixture => {
                     let goes_on = mixture_bounce(scene.lights(), &hit, start.time, lobe, &mut scatter, rng);

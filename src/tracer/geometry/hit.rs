@@ -20,9 +20,9 @@ pub struct Hit {
     pub material: u32,
     /// How far off the surface a new ray must start to never re-hit it by rounding error.
     pub offset: Real,
-    /// How much farther a ray leaving on the normal's side starts: the height of the smooth
-    /// surface a mesh's vertex normals describe above its flat triangle (`world/mesh.rs`);
-    /// 0 for every other shape.
+    /// How much higher, along `normal`, paths leave on the normal's side ([`Hit::departure`]):
+    /// the height of the smooth surface a mesh's vertex normals describe above its flat
+    /// triangle (`world/mesh.rs`); 0 for every other shape.
     pub lift: Real,
     /// Surface coordinates for textures, each in `[0, 1]` (0 where no texture can look: the
     /// sphere-only scenes never compute them).
@@ -81,16 +81,28 @@ impl Closest {
 }
 
 impl Hit {
+    /// Where paths leave this hit on the normal's side, and the point light is gathered at:
+    /// `point` raised by [`Hit::lift`] (so a light sample, its shadow ray, its density and
+    /// the bounce all start from one point). An emitter's own point stays `point`.
+    #[inline]
+    pub fn departure(&self) -> Vec3 {
+        // Tested, not added: `point + 0·normal` could turn a −0 coordinate into +0.
+        if self.lift > 0.0 { self.point + self.lift * self.normal } else { self.point }
+    }
+
     /// A new ray leaving this hit in the unit direction `dir` (a scattered direction is
     /// one: `shading/material.rs`), started off the surface on the side `dir` points to (outwards
-    /// for reflection, also raised by [`Hit::lift`]; inwards for refraction).
+    /// for reflection, from [`Hit::departure`]; inwards for refraction).
     #[inline]
     pub fn spawn(&self, dir: Vec3) -> Ray {
         debug_assert!((dir.length_squared() - 1.0).abs() < 1e-4, "a unit direction");
-        // `offset + 0.0` is `offset` to the bit: shapes without a lift spawn as before.
-        let away = if dir.dot(self.normal) >= 0.0 { self.offset + self.lift } else { -self.offset };
+        let origin = if dir.dot(self.normal) >= 0.0 {
+            self.departure() + self.offset * self.normal
+        } else {
+            self.point + (-self.offset) * self.normal
+        };
         // Not normalised again: a square root and a division on every bounce's critical
         // path, for a vector already unit to within rounding.
-        Ray { origin: self.point + away * self.normal, dir }
+        Ray { origin, dir }
     }
 }

@@ -247,9 +247,12 @@ impl Mesh {
     /// `corners`; `side` turns the normals to the side the ray came from): Hanika's "Hacking
     /// the shadow terminator" (2021), as Cycles offsets rays. Where the surface bulges (the
     /// point lies below a vertex's tangent plane), the point is raised towards each such
-    /// plane, weighted by `b`. A ray that leaves on the normal's side starts that much
-    /// higher ([`Hit::spawn`]): interpolated normals lean away from the flat facets, and a
-    /// bounce drawn about one may point below the facet it leaves, into its own mesh.
+    /// plane, weighted by `b`. Paths leave on the normal's side from that much higher
+    /// ([`Hit::departure`]): interpolated normals lean away from the flat facets, and a
+    /// bounce drawn about one may point below the facet it leaves, into its own mesh. On a
+    /// coarse mesh the smooth surface strays from the curve the mesh stands for by about as
+    /// much as the facets do (a sphere of 12 × 24 cells: up to 1.6% of its radius outside it,
+    /// where the facets sag 0.9% inside; of 4 × 8 cells, 8%).
     fn lift(&self, point: Vec3, corners: [usize; 3], b: [Real; 3], side: Real, normal: Vec3) -> Real {
         let raised: Vec3 = (0..3)
             .map(|k| {
