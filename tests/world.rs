@@ -701,6 +701,18 @@ fn smooth_ball_obj(rings: usize) -> String {
     obj
 }
 
+/// The scene `text`, read from a file beside `ball.obj`, a [`smooth_ball_obj`] of `rings`
+/// (both written to a folder of their own, removed once the scene is loaded).
+fn scene_with_smooth_ball(name: &str, rings: usize, text: &str) -> Scene {
+    let dir = std::env::temp_dir().join(format!("raypool-world-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("ball.obj"), smooth_ball_obj(rings)).unwrap();
+    std::fs::write(dir.join("scene.toml"), text).unwrap();
+    let scene = SceneFile::read(&dir.join("scene.toml")).unwrap_or_else(|e| panic!("{e}")).to_scene();
+    std::fs::remove_dir_all(&dir).ok();
+    scene
+}
+
 #[test]
 fn a_smooth_shaded_mesh_ball_in_the_white_furnace_renders_exactly_its_albedo() {
     // Every bounce off a convex lambertian surface under a uniform sky escapes to the sky, so
@@ -709,14 +721,10 @@ fn a_smooth_shaded_mesh_ball_in_the_white_furnace_renders_exactly_its_albedo() {
     // the facet it leaves: spawned from the facet it met the ball again and came out darker
     // (before `Mesh::lift`: 695 of 4,618 ball pixels of a 100 × 100, 64 spp render, down to
     // 0.484). Bounces now leave from the smooth surface the normals describe.
-    let dir = std::env::temp_dir().join(format!("raypool-world-ball-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("ball.obj"), smooth_ball_obj(12)).unwrap();
     let text = "[camera]\nlookfrom = [0.0, 0.0, 5.0]\nlookat = [0.0, 0.0, 0.0]\nvup = [0.0, 1.0, 0.0]\n\
                     vfov = 30.0\naspect = 1.0\n[background]\nkind = \"constant\"\ncolor = [1.0, 1.0, 1.0]\n\
                     [[mesh]]\nobj = \"ball.obj\"\nmaterial = { kind = \"lambertian\", albedo = [0.5, 0.5, 0.5] }\n";
-    std::fs::write(dir.join("furnace.toml"), text).unwrap();
-    let scene = SceneFile::read(&dir.join("furnace.toml")).unwrap_or_else(|e| panic!("{e}")).to_scene();
+    let scene = scene_with_smooth_ball("furnace", 12, text);
     let (size, spp) = (48, 64);
     let settings = RenderSettings { width: size, height: size, spp, seed: 5, ..Default::default() };
     let job = RenderJob::new(scene, settings);
@@ -739,7 +747,6 @@ fn a_smooth_shaded_mesh_ball_in_the_white_furnace_renders_exactly_its_albedo() {
         }
     }
     assert!(on_ball > 300, "only {on_ball} pixels wholly on the ball");
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
@@ -750,16 +757,11 @@ fn a_lamp_touching_a_coarse_smooth_mesh_ball_gets_the_same_light_under_all_three
     // darker than `bsdf` (6 seeds, 64 × 64, 256 spp, standard error 0.1%). Now the light
     // sample, its shadow ray, its density and the bounce all start from one raised point
     // (`Hit::departure`).
-    let dir = std::env::temp_dir().join(format!("raypool-world-lamp-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::write(dir.join("ball.obj"), smooth_ball_obj(4)).unwrap();
     let text = "[camera]\nlookfrom = [0.0, 2.5, 3.0]\nlookat = [0.0, 0.3, 0.0]\nvup = [0.0, 1.0, 0.0]\n\
                 vfov = 50.0\naspect = 1.0\n[background]\nkind = \"black\"\n\
                 [[mesh]]\nobj = \"ball.obj\"\nmaterial = { kind = \"lambertian\", albedo = [0.7, 0.7, 0.7] }\n\
                 [[quad]]\nq = [-0.5, 1.0, -0.5]\nu = [1.0, 0.0, 0.0]\nv = [0.0, 0.0, 1.0]\n\
                 material = { kind = \"diffuse_light\", emit = [4.0, 4.0, 4.0] }\n";
-    std::fs::write(dir.join("lamp.toml"), text).unwrap();
-    let scene = SceneFile::read(&dir.join("lamp.toml")).unwrap_or_else(|e| panic!("{e}")).to_scene();
+    let scene = scene_with_smooth_ball("lamp", 4, text);
     assert_the_three_light_samplings_agree("lamp on a smooth ball", &scene);
-    std::fs::remove_dir_all(&dir).ok();
 }
