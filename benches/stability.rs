@@ -3,7 +3,8 @@
 //! hit point) and with raypool's robust one; then the ray-by-ray cases of
 //! `raypool::measure::stress_shapes` (leaks through the seams of closed meshes and boxes, acne
 //! on quads and triangles far from the origin, thin boxes met by grazing rays, each also through
-//! an instance) at `RAYPOOL_SHAPE_RAYS` rays a case (10⁶ unless set). Writes
+//! an instance) and of `raypool::measure::stress_smooth` (bounces off a mesh shaded by its
+//! vertex normals that meet it again) at `RAYPOOL_SHAPE_RAYS` rays a case (10⁶ unless set). Writes
 //! `results/stability-f32.csv` and `results/stability-shapes-f32.csv` (or `-f64` with
 //! `--features f64`) and `results/stability.md` from whichever of them exist.
 
@@ -11,7 +12,7 @@ use std::fmt::Write as _;
 
 use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::stress::cases;
-use raypool::measure::stress_shapes;
+use raypool::measure::{stress_shapes, stress_smooth};
 use raypool::tracer::geometry::sphere::Intersection;
 
 const PRECISION: &str = if cfg!(feature = "f64") { "f64" } else { "f32" };
@@ -36,7 +37,7 @@ fn main() {
     std::fs::write(dir.join(format!("stability-{PRECISION}.csv")), &csv).expect("results/ is writable");
     let rays = std::env::var("RAYPOOL_SHAPE_RAYS").ok().and_then(|n| n.parse().ok()).unwrap_or(1_000_000);
     let mut shapes = String::from("case,precision,rays,failures,detail\n");
-    for row in stress_shapes::table(rays) {
+    for row in stress_shapes::table(rays).into_iter().chain(stress_smooth::rows(rays)) {
         eprintln!("{} {PRECISION}: {}", row.case, row.detail);
         let _ =
             writeln!(shapes, "\"{}\",{PRECISION},{},{},\"{}\"", row.case, row.rays, row.failures, row.detail);
@@ -107,7 +108,11 @@ fn shapes_section(dir: &std::path::Path) -> String {
          6° of grazing. **thin box**: a 1 × h × 1 box and rays aimed at and around it, half within a slope of \
          10⁻⁷..10⁻¹ of its large faces, judged against an exact f64 slab test of the same box and ray; rays within \
          16 ε (32 ε through the instance) of an edge are counted but not judged. **through an instance**: the \
-         same shape turned 30° about y and 20° about x, then moved by (1, 0.5, −1) (acne: moved to the distance).\n\n\
+         same shape turned 30° about y and 20° about x, then moved by (1, 0.5, −1) (acne: moved to the distance). \
+         **self-hits** (`src/measure/stress_smooth.rs`): a convex icosphere shaded by its vertex normals, hit from \
+         outside; from each hit one Lambertian bounce about the shading normal, spawned as the renderer spawns it \
+         (from the smooth surface the normals describe); it fails if it meets the mesh again. The detail also counts \
+         the same bounces started from the flat facet instead.\n\n\
          | case | rays | precision | failures | detail |\n|---|---:|---|---:|---|\n",
         Machine::current().describe()
     );

@@ -12,6 +12,7 @@ use deadline::within;
 use glam::DVec3;
 use raypool::measure::stress::{StressCase, cases};
 use raypool::measure::stress_shapes::{self, Aim, Flat, Solid};
+use raypool::measure::stress_smooth;
 use raypool::scenes::builtin::builtin_scene;
 use raypool::tracer::geometry::sphere::Intersection;
 use raypool::tracer::math::real::to_dvec3;
@@ -131,6 +132,18 @@ fn quads_and_triangles_1e4_from_the_origin_show_no_acne() {
                 let a = stress_shapes::acne(flat, 1e4, placed, 20_000);
                 assert_eq!(a, stress_shapes::Acne::default(), "{flat:?}, through an instance: {placed}");
             }
+        }
+    });
+}
+
+#[test]
+fn bounces_off_a_mesh_shaded_by_its_vertex_normals_never_meet_it_again() {
+    within("2·10⁴ bounces off the smooth icosphere to be traced", move || {
+        for placed in [false, true] {
+            let s = stress_smooth::self_hits(3, placed, 20_000);
+            assert_eq!((s.missed, s.from_departure), (0, 0), "through an instance: {placed}");
+            // The case bites: from the flat facets, some of the same bounces do meet it.
+            assert!(s.from_facet > 0, "through an instance: {placed}: {s:?}");
         }
     });
 }

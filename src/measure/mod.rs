@@ -17,6 +17,7 @@ pub mod convergence;
 pub mod compare;
 pub mod stress;
 pub mod stress_shapes;
+pub mod stress_smooth;
 pub mod solids;
 pub mod plot;
 pub mod machine;

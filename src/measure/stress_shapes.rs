@@ -88,15 +88,15 @@ pub struct Row {
 }
 
 /// A reproducible stream of uniform numbers.
-struct Rng(u64);
+pub(crate) struct Rng(pub(crate) u64);
 
 impl Rng {
-    fn f(&mut self) -> f64 {
+    pub(crate) fn f(&mut self) -> f64 {
         self.0 += 1;
         (mix(self.0) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
     }
 
-    fn range(&mut self, a: f64, b: f64) -> f64 {
+    pub(crate) fn range(&mut self, a: f64, b: f64) -> f64 {
         a + (b - a) * self.f()
     }
 
@@ -104,7 +104,7 @@ impl Rng {
         ((self.f() * len as f64) as usize).min(len - 1)
     }
 
-    fn unit(&mut self) -> DVec3 {
+    pub(crate) fn unit(&mut self) -> DVec3 {
         loop {
             let v = DVec3::new(self.range(-1.0, 1.0), self.range(-1.0, 1.0), self.range(-1.0, 1.0));
             let l = v.length_squared();
@@ -122,10 +122,10 @@ pub fn placement(offset: DVec3) -> Transform {
 }
 
 /// Where the instanced solids and thin boxes are moved to.
-const NEAR: DVec3 = DVec3::new(1.0, 0.5, -1.0);
+pub(crate) const NEAR: DVec3 = DVec3::new(1.0, 0.5, -1.0);
 
 /// The objects as the world, or as one instance placed by `placed`.
-fn world(objects: Vec<Object>, placed: Option<Transform>) -> Group {
+pub(crate) fn world(objects: Vec<Object>, placed: Option<Transform>) -> Group {
     match placed {
         None => Group::new(objects),
         Some(t) => Group::new(vec![Object::Instance(Box::new(Instance::new(t, Group::new(objects))))]),
@@ -137,7 +137,7 @@ fn world(objects: Vec<Object>, placed: Option<Transform>) -> Group {
 /// are placed in f64, the start rounded to the renderer's numbers, and the direction taken from
 /// the rounded start to the exact target, so the ray passes within rounding of the target
 /// however far from the origin it is.
-fn aimed(target: DVec3, from: DVec3, placed: Option<Transform>) -> Ray {
+pub(crate) fn aimed(target: DVec3, from: DVec3, placed: Option<Transform>) -> Ray {
     let (target, from) = match placed {
         None => (target, from),
         Some(t) => {
@@ -150,7 +150,7 @@ fn aimed(target: DVec3, from: DVec3, placed: Option<Transform>) -> Ray {
     Ray::new(origin, from_dvec3((target - to_dvec3(origin)).normalize()))
 }
 
-fn hits(world: &Group, ray: &Ray) -> bool {
+pub(crate) fn hits(world: &Group, ray: &Ray) -> bool {
     world.hit(ray, Real::INFINITY, &Probe::default()).is_some()
 }
 
