@@ -752,7 +752,7 @@ fn a_smooth_shaded_mesh_ball_in_the_white_furnace_renders_exactly_its_albedo() {
 #[test]
 fn a_lamp_touching_a_coarse_smooth_mesh_ball_gets_the_same_light_under_all_three_samplings() {
     // A 4 × 8-cell ball shaded by its vertex normals, whose smooth surface (`Mesh::lift`)
-    // rises up to 8% of its radius above its facets, with a lamp resting on its top. Raising
+    // reaches up to 8% of its radius outside the sphere, with a lamp resting on its top. Raising
     // only the rays' start left the light samples drawn from the facet: `mis` came out 2.6%
     // darker than `bsdf` (6 seeds, 64 × 64, 256 spp, standard error 0.1%). Now the light
     // sample, its shadow ray, its density and the bounce all start from one raised point
