@@ -21,6 +21,7 @@ use crate::schedule::frame::Frame;
 use crate::schedule::modes::{Schedule, render};
 use crate::schedule::progressive::Cancel;
 use crate::schedule::random::{RngChoice, RngSource};
+use crate::tracer::lighting::LightSampling;
 use crate::tracer::render::RenderSettings;
 use crate::tracer::tile::{Shard, Tile};
 
@@ -47,7 +48,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         let bar = bar.clone();
         Arc::new(move |n| bar.inc(n))
     };
-    let job = render_job(image, &scene, settings);
+    let job = render_job(image, &scene, settings)?;
     let frame = Arc::new(
         Frame::new(job.clone(), rng, threads, image.tile, progress).sharded(shard).with_cancel(cancel),
     );
@@ -100,6 +101,11 @@ fn check_shard(args: &RenderArgs, format: Format) -> Result<Shard, Error> {
     if format == Format::Part && args.workers.rng == RngChoice::Shared {
         return Err(Error::new(
             "--rng shared draws numbers in whatever order threads run, so parts would not merge into one image: use --rng per-sample",
+        ));
+    }
+    if format == Format::Part && args.image.light_sampling == LightSampling::Bdpt {
+        return Err(Error::new(
+            "--light-sampling bdpt adds light to pixels of every shard, which a part file does not hold: render the whole image",
         ));
     }
     if format == Format::Part && args.denoise {

@@ -9,6 +9,7 @@ use crate::measure::machine::cpus;
 use crate::scenes::builtin::builtin_scene;
 use crate::scenes::format::SceneFile;
 use crate::schedule::random::RngChoice;
+use crate::tracer::lighting::LightSampling;
 use crate::tracer::math::real::Real;
 use crate::tracer::render::{Adaptive, RenderJob, RenderSettings, default_height};
 use crate::tracer::sampling::sampler::Sampler;
@@ -43,6 +44,15 @@ pub fn render_settings(args: &ImageArgs, scene: &SceneFile, rng: RngChoice) -> R
         Some(target_error) => Some(Adaptive { target_error: target_error as Real, min_spp: args.min_spp }),
         None => None,
     };
+    if args.light_sampling == LightSampling::Bdpt {
+        let refused =
+            if adaptive.is_some() { Some("--target-error") } else { args.roulette.then_some("--roulette") };
+        if let Some(flag) = refused {
+            return Err(Error::new(format!(
+                "--light-sampling bdpt does not take {flag}: its light paths are weighed against a fixed number of samples per pixel, and it ends no path by roulette"
+            )));
+        }
+    }
     Ok(RenderSettings {
         width: args.width,
         height,
@@ -70,9 +80,17 @@ fn sampler(args: &ImageArgs, rng: RngChoice) -> Result<Sampler, Error> {
     }
 }
 
-/// The job to render: `scene` with the `--accel` method, under `settings`.
-pub fn render_job(args: &ImageArgs, scene: &SceneFile, settings: RenderSettings) -> RenderJob {
-    RenderJob::new(args.accel.apply(scene.to_scene()), settings)
+/// The job to render: `scene` with the `--accel` method, under `settings`. Refused: a scene
+/// with meshes shaded by their files' normals under `--light-sampling bdpt` (see
+/// [`Scene::has_shading_normals`](crate::tracer::scene::Scene::has_shading_normals)).
+pub fn render_job(args: &ImageArgs, scene: &SceneFile, settings: RenderSettings) -> Result<RenderJob, Error> {
+    let scene = scene.to_scene();
+    if settings.light_sampling == LightSampling::Bdpt && scene.has_shading_normals() {
+        return Err(Error::new(
+            "--light-sampling bdpt does not take meshes shaded by their files' normals (its light paths would see them unlike the camera's): use mis",
+        ));
+    }
+    Ok(RenderJob::new(args.accel.apply(scene), settings))
 }
 
 /// The worker threads `--threads` asks for, else one per CPU.

@@ -15,7 +15,7 @@ pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let image = &args.image;
     let scene = load_scene(image)?;
     let settings = render_settings(image, &scene, RngChoice::PerSample)?;
-    let job = render_job(image, &scene, settings);
+    let job = render_job(image, &scene, settings)?;
     let subject = format!(
         "{}, {} × {}, {} spp, depth {}, {}-pixel tiles",
         scene_name(image),

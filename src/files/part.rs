@@ -341,6 +341,7 @@ pub fn merge(parts: &[(String, Part)]) -> Result<Image, Error> {
             pixels: pixels.clone(),
             rays: 0,
             samples: 0,
+            splats: Default::default(),
             timing: None,
         }));
     }

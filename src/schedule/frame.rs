@@ -14,6 +14,8 @@ use std::time::Instant;
 use crate::files::image::Image;
 use crate::schedule::progressive::{Cancel, Pass};
 use crate::schedule::random::RngSource;
+use crate::tracer::bidir::splat::Splats;
+use crate::tracer::math::real::{from_dvec3, to_dvec3};
 use crate::tracer::render::{RenderJob, TileOutput, TileTiming, render_tile};
 use crate::tracer::sampling::sampler::RandomStreams;
 use crate::tracer::tile::{Shard, Tile};
@@ -181,7 +183,14 @@ impl Frame {
     pub fn render(&self, tile: Tile) -> TileOutput {
         if self.is_cancelled() {
             let pixels = vec![Default::default(); tile.area()];
-            return TileOutput { tile, pixels, rays: 0, samples: 0, timing: None };
+            return TileOutput {
+                tile,
+                pixels,
+                rays: 0,
+                samples: 0,
+                splats: Default::default(),
+                timing: None,
+            };
         }
         if let Some(hook) = &self.on_start {
             hook(tile);
@@ -210,11 +219,22 @@ impl Frame {
     }
 
     /// Assembles rendered tiles into the image, checking that they cover every pixel of the
-    /// frame once (in a shard, the shard's pixels; the others stay black).
+    /// frame once (in a shard, the shard's pixels; the others stay black), and adds the light
+    /// their light paths splatted (`--light-sampling bdpt`): summed in fixed point, so in any
+    /// order of tiles to the same bits.
     pub fn assemble(&self, tiles: &[TileOutput]) -> Result<Image, String> {
-        if self.shard == Shard::WHOLE {
-            return Image::from_tiles(self.width(), self.height(), tiles);
+        let mut image = if self.shard == Shard::WHOLE {
+            Image::from_tiles(self.width(), self.height(), tiles)?
+        } else {
+            Image::from_tiles_within(self.width(), self.height(), &self.tiles(), tiles)?
+        };
+        if tiles.iter().any(|t| !t.splats.is_empty()) {
+            let mut splats = Splats::default();
+            tiles.iter().for_each(|t| splats.merge(&t.splats));
+            for (k, light) in splats.per_pixel(self.job.settings.spp) {
+                image.pixels[k] = from_dvec3(to_dvec3(image.pixels[k]) + light);
+            }
         }
-        Image::from_tiles_within(self.width(), self.height(), &self.tiles(), tiles)
+        Ok(image)
     }
 }

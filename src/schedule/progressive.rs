@@ -54,8 +54,14 @@ impl Pass {
             None => self.samples.clone(),
         };
         let rays = accumulate_tile(job, streams, tile, samples, &mut sums);
-        let out =
-            TileOutput { tile, pixels: sums.means(), rays, samples: sums.samples() - before, timing: None };
+        let out = TileOutput {
+            tile,
+            pixels: sums.means(),
+            rays,
+            samples: sums.samples() - before,
+            splats: Default::default(),
+            timing: None,
+        };
         self.sums.lock().insert(tile, sums);
         out
     }

@@ -68,6 +68,15 @@ pub struct Camera {
     has_lens: bool,
     /// The angle one pixel spans at the image's centre, radians.
     pixel_angle: Real,
+    /// Unit view direction (the lens's axis).
+    forward: Vec3,
+    /// Distance from the lens to the plane in focus.
+    focus: Real,
+    /// The whole image's area on the plane in focus.
+    film_area: Real,
+    /// Image size, pixels.
+    width: u32,
+    height: u32,
 }
 
 impl Camera {
@@ -98,6 +107,11 @@ impl Camera {
             lens_v: lens_radius * v,
             has_lens: lens_radius > 0.0,
             pixel_angle: 2.0 * h.tan() / height as Real,
+            forward: -w,
+            focus,
+            film_area: viewport_width * viewport_height,
+            width,
+            height,
         }
     }
 
@@ -111,12 +125,7 @@ impl Camera {
         let ox = uniform(rng) - 0.5;
         let oy = uniform(rng) - 0.5;
         let target = self.pixel00 + (i as Real + ox) * self.delta_u + (j as Real + oy) * self.delta_v;
-        let origin = if self.has_lens {
-            let (x, y) = random_in_unit_disk(rng);
-            self.center + x * self.lens_u + y * self.lens_v
-        } else {
-            self.center
-        };
+        let origin = self.lens_point(rng);
         Ray::new(origin, target - origin)
     }
 
@@ -124,6 +133,45 @@ impl Camera {
     /// how far apart neighbouring pixels' rays are, for the denoiser's sense of scale.
     pub fn pixel_angle(&self) -> Real {
         self.pixel_angle
+    }
+
+    /// A point on the lens, drawn uniformly (two numbers), or the pinhole itself (none): where
+    /// a light path is joined to the camera (`bidir/`).
+    pub fn lens_point<R: Rng + ?Sized>(&self, rng: &mut R) -> Vec3 {
+        if !self.has_lens {
+            return self.center;
+        }
+        let (x, y) = random_in_unit_disk(rng);
+        self.center + x * self.lens_u + y * self.lens_v
+    }
+
+    /// The pixel `(i, j)` whose camera rays include the one from the lens point `lens` through
+    /// `point`, if that ray crosses the image: [`Camera::ray`] read backwards, through the
+    /// point where the ray meets the plane in focus.
+    pub fn pixel_of(&self, lens: Vec3, point: Vec3) -> Option<(u32, u32)> {
+        let to = point - lens;
+        let along = to.dot(self.forward);
+        if along <= 0.0 {
+            return None;
+        }
+        let on_film = lens + to * (self.focus / along) - (self.pixel00 - 0.5 * (self.delta_u + self.delta_v));
+        let x = on_film.dot(self.delta_u) / self.delta_u.length_squared();
+        let y = on_film.dot(self.delta_v) / self.delta_v.length_squared();
+        let inside = x >= 0.0 && y >= 0.0 && x < self.width as Real && y < self.height as Real;
+        inside.then(|| ((x as u32).min(self.width - 1), (y as u32).min(self.height - 1)))
+    }
+
+    /// The density per unit solid angle with which camera rays leave a lens point in the unit
+    /// direction `dir`, over the whole image (a pixel chosen uniformly, then a point in it):
+    /// `focus² / (cos³θ · film area)`, θ from the lens's axis; 0 behind the lens. It is also
+    /// the camera's importance per unit lens area (pbrt's `We`) times `cos θ`, which is why a
+    /// light path joined to the camera is weighed by it.
+    pub fn direction_pdf(&self, dir: Vec3) -> Real {
+        let cos = dir.dot(self.forward);
+        if cos <= 0.0 {
+            return 0.0;
+        }
+        self.focus * self.focus / (cos * cos * cos * self.film_area)
     }
 
     /// The ray through the exact centre of pixel-space point `(x, y)` (in pixels, from the

@@ -47,6 +47,10 @@ pub enum LightSampling {
     /// weighted by the power heuristic (multiple importance sampling, as pbrt and Mitsuba).
     #[default]
     Mis,
+    /// Bidirectional: a path from a light as well, joined to the camera's path at every pair
+    /// of vertices, each joined path weighted by the power heuristic over all the ways of
+    /// making it (Veach's BDPT). Finds caustics the others cannot aim at.
+    Bdpt,
 }
 
 impl LightSampling {
@@ -56,6 +60,7 @@ impl LightSampling {
             LightSampling::Bsdf => "bsdf",
             LightSampling::Mixture => "mixture",
             LightSampling::Mis => "mis",
+            LightSampling::Bdpt => "bdpt",
         }
     }
 }

@@ -11,6 +11,7 @@
 //! | [`camera`] | rays from pixels through a thin lens |
 //! | [`scene`] | the scene that holds them all, and the one hit search that dispatches to the chosen tree |
 //! | [`lighting`] | how a path finds the lights: a material's bounce, the mixture, or multiple importance sampling |
+//! | [`bidir`] | bidirectional path tracing: camera and light paths joined, weighted over every strategy |
 //! | [`tile`] | how an image is cut into tiles, and tiles into shards |
 //! | [`render`] | the one render loop that turns a tile of pixels into colours |
 //!
@@ -32,5 +33,6 @@ pub mod world;
 pub mod camera;
 pub mod scene;
 pub mod lighting;
+pub mod bidir;
 pub mod tile;
 pub mod render;

@@ -13,6 +13,8 @@ use std::time::Duration;
 use glam::DVec3;
 
 use crate::error::Error;
+use crate::tracer::bidir::connect::{Bidir, Paths};
+use crate::tracer::bidir::splat::Splats;
 use crate::tracer::camera::{Camera, CameraSettings};
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::{
@@ -20,7 +22,7 @@ use crate::tracer::lighting::{
 };
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3};
-use crate::tracer::sampling::independent::mix;
+use crate::tracer::sampling::independent::{PerSample, mix};
 use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, SampleRng, Sampler};
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
@@ -98,6 +100,9 @@ impl Default for RenderSettings {
 /// Mixed into the render seed for the media's numbers, so they are not any stream's.
 const MEDIA_KEY: u64 = 0x6D65_6469_6100_0000;
 
+/// Mixed into the render seed for the light paths' streams (`--light-sampling bdpt`).
+const LIGHT_PATHS_KEY: u64 = 0x6C69_6768_7473_0000;
+
 /// Russian roulette starts once a path has cast this many rays (its first bounces are
 /// where most of its light comes from, so they are never cut).
 pub const ROULETTE_AFTER: u32 = 4;
@@ -135,6 +140,10 @@ pub struct TileOutput {
     pub rays: u64,
     /// Camera samples taken (`spp × area`, or fewer with adaptive sampling).
     pub samples: u64,
+    /// Light its samples' light paths carried to the camera, in any pixel of the image
+    /// (`--light-sampling bdpt`; empty otherwise): added to the image once every tile is in,
+    /// divided by the samples per pixel.
+    pub splats: Splats,
     /// Which thread rendered it, and when (set by [`Frame::render`](crate::schedule::frame::Frame::render)).
     pub timing: Option<TileTiming>,
 }
@@ -194,7 +203,8 @@ pub fn render_tile_with<S: RandomStreams>(
 ) -> TileOutput {
     let mut sums = PixelSums::new(tile.area());
     let rays = accumulate(job, streams, tile, |_, _| 0..job.settings.spp, &mut sums, closest_hit);
-    TileOutput { tile, pixels: sums.means(), rays, samples: sums.samples(), timing: None }
+    let splats = std::mem::take(&mut sums.splats);
+    TileOutput { tile, pixels: sums.means(), rays, samples: sums.samples(), splats, timing: None }
 }
 
 /// The running sums of a tile's pixels: each pixel's sample sum (f64) and sample count.
@@ -211,12 +221,15 @@ pub struct PixelSums {
     sums: Vec<DVec3>,
     odd: Vec<DVec3>,
     counts: Vec<u32>,
+    /// What the samples' light paths splatted into any pixel of the image.
+    pub splats: Splats,
 }
 
 impl PixelSums {
     /// `pixels` pixels with no samples yet.
     pub fn new(pixels: usize) -> PixelSums {
-        PixelSums { sums: vec![DVec3::ZERO; pixels], odd: vec![DVec3::ZERO; pixels], counts: vec![0; pixels] }
+        let zeros = vec![DVec3::ZERO; pixels];
+        PixelSums { sums: zeros.clone(), odd: zeros, counts: vec![0; pixels], splats: Splats::default() }
     }
 
     /// Each pixel's mean (black before its first sample).
@@ -287,10 +300,23 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
     assert_eq!(sums.sums.len(), tile.area(), "one running sum per pixel of the tile");
     let width = job.settings.width as u64;
     let mut rays = 0;
+    // Bidirectional samples where asked for and the scene has lights to start from.
+    let bidir = (WORLD
+        && job.settings.light_sampling == LightSampling::Bdpt
+        && !job.scene.lights().is_empty())
+    .then(|| Bidir {
+        scene: &job.scene,
+        camera: &job.camera,
+        max_depth: job.settings.max_depth,
+        width: job.settings.width,
+    });
+    let light_streams = PerSample { seed: mix(job.settings.seed ^ LIGHT_PATHS_KEY) };
+    let mut paths = Paths::default();
     let pixels =
         (tile.y..tile.y + tile.height).flat_map(|j| (tile.x..tile.x + tile.width).map(move |i| (i, j)));
     for (k, (i, j)) in pixels.enumerate() {
         let pixel_streams = streams.pixel(j as u64 * width + i as u64);
+        let light_pixel = bidir.map(|_| light_streams.pixel(j as u64 * width + i as u64));
         for sample in samples(i, j) {
             let mut rng = pixel_streams.stream(sample as u64);
             let ray = job.camera.ray(i, j, &mut rng);
@@ -306,8 +332,29 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
                 0
             };
             let start = Probe { time, medium_seed: path };
-            let value =
-                trace::<_, WORLD>(&job.scene, &closest_hit, ray, start, &job.settings, &mut rng, &mut rays);
+            let value = match (&bidir, &light_pixel) {
+                (Some(bidir), Some(light_pixel)) => {
+                    let mut light_rng = light_pixel.stream(sample as u64);
+                    bidir.sample(
+                        ray,
+                        start,
+                        &mut rng,
+                        &mut light_rng,
+                        &mut paths,
+                        &mut sums.splats,
+                        &mut rays,
+                    )
+                }
+                _ => trace::<_, WORLD>(
+                    &job.scene,
+                    &closest_hit,
+                    ray,
+                    start,
+                    &job.settings,
+                    &mut rng,
+                    &mut rays,
+                ),
+            };
             let value = to_dvec3(value);
             sums.sums[k] += value;
             if sample % 2 == 1 {

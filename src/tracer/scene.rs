@@ -284,6 +284,13 @@ impl Scene {
         self.objects.occludes(ray, t_max, probe)
     }
 
+    /// Whether a mesh is shaded by normals from its file: the light paths of
+    /// `--light-sampling bdpt` would then carry light as the camera's paths do not (a shading
+    /// normal makes scattering asymmetric), so that setting refuses such scenes.
+    pub fn has_shading_normals(&self) -> bool {
+        self.objects.objects().iter().any(Object::has_shading_normals)
+    }
+
     /// The emitters paths can aim at.
     pub fn lights(&self) -> &Lights {
         &self.lights

@@ -25,6 +25,7 @@ use crate::measure::machine::cpus;
 use crate::scenes::format::SceneFile;
 use crate::schedule::modes::Schedule;
 use crate::schedule::random::RngChoice;
+use crate::tracer::lighting::LightSampling;
 use crate::tracer::render::RenderJob;
 
 /// Largest pasted scene, bytes.
@@ -169,6 +170,11 @@ pub fn config(
     if settings.adaptive.is_some() {
         return Err(Error::new("the viewer renders progressive passes, not adaptive sampling"));
     }
+    if settings.light_sampling == LightSampling::Bdpt {
+        return Err(Error::new(
+            "the viewer shows each tile as its passes finish, and bdpt's light paths add light to other tiles: render it with `raypool render`",
+        ));
+    }
     let threads = worker_threads(&args.workers);
     if threads > max_threads() {
         return Err(Error::new(format!(
@@ -193,7 +199,7 @@ pub fn config(
     }
     let job = match current.filter(|c| same_world(c, args, &scene)) {
         Some(c) => c.job.with_camera(&scene.camera, settings),
-        None => render_job(image, &scene, settings),
+        None => render_job(image, &scene, settings)?,
     };
     Ok(Config {
         name,

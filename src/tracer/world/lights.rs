@@ -42,7 +42,7 @@ const LEAF: usize = 4;
 
 /// One light's shape, in world space.
 #[derive(Clone, Debug)]
-enum Shape {
+pub(super) enum Shape {
     Quad(Quad),
     /// Corners, unit geometric normal and area.
     Triangle([Vec3; 3], Vec3, Real),
@@ -74,15 +74,15 @@ pub struct LightSample {
 /// The scene's lights and the probabilities of choosing each.
 #[derive(Clone, Debug, Default)]
 pub struct Lights {
-    shapes: Vec<Shape>,
+    pub(super) shapes: Vec<Shape>,
     /// Probability of choosing each light (summing to 1).
     chance: Vec<Real>,
     /// What each light gives off from its front.
-    emit: Vec<Vec3>,
+    pub(super) emit: Vec<Vec3>,
     /// Running sums of `chance`, for the choice.
-    running: Vec<Real>,
+    pub(super) running: Vec<Real>,
     /// The sum of the lights' powers.
-    total: Real,
+    pub(super) total: Real,
     /// Which of `shapes` are spheres (a hit on one is told apart by where it lies).
     spheres: Vec<usize>,
     /// Per light, whether no other sphere light comes near it ([`apart`]).
@@ -440,11 +440,11 @@ impl Bounded for (Shape, Real, Vec3) {
 }
 
 /// A quad's area.
-fn quad_area(quad: &Quad) -> Real {
+pub(super) fn quad_area(quad: &Quad) -> Real {
     quad.u.cross(quad.v).length()
 }
 
 /// The luminance of a linear RGB colour (Rec. 709 weights).
-fn luminance(c: Vec3) -> Real {
+pub(super) fn luminance(c: Vec3) -> Real {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }

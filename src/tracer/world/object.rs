@@ -103,6 +103,15 @@ impl Object {
         }
     }
 
+    /// Whether it holds a mesh shaded by normals from its file (in an instance too).
+    pub fn has_shading_normals(&self) -> bool {
+        match self {
+            Object::Mesh(mesh, _) => mesh.has_normals(),
+            Object::Instance(instance) => instance.group.objects().iter().any(Object::has_shading_normals),
+            _ => false,
+        }
+    }
+
     /// Whether anything in it moves or is a medium: `(moves, media)`.
     pub fn needs(&self) -> (bool, bool) {
         match self {

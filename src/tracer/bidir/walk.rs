@@ -1,0 +1,101 @@
+//! The random walk that makes both halves of a bidirectional sample: from the camera (the
+//! camera path) and from a light (the light path). It is the path tracer's loop (`render.rs`)
+//! with nothing gathered on the way: each vertex is kept with its throughput and densities,
+//! and the connections are made afterwards (`connect.rs`).
+//!
+//! One difference between the directions: glass chooses reflection or refraction by
+//! Schlick's formula at the angle on the side the walk arrives from, and Schlick's formula is
+//! not symmetric. The camera's choice defines the image (it is what `bsdf` renders), so a light
+//! path that refracts is weighed by the ratio of the camera's chance of that refraction, read
+//! backwards, to its own: both directions then estimate the same light.
+
+use crate::tracer::bidir::vertex::Vertex;
+use crate::tracer::camera::Camera;
+use crate::tracer::geometry::hit::Hit;
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::sampling::independent::mix;
+use crate::tracer::sampling::sampler::SampleRng;
+use crate::tracer::scene::Scene;
+use crate::tracer::shading::material::{Material, schlick};
+use crate::tracer::world::object::Probe;
+
+/// Which way a walk goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// From the camera: radiance flows back along it.
+    FromCamera,
+    /// From a light: importance flows back along it.
+    FromLight,
+}
+
+/// Extends `path` (which holds its first vertex) by following `ray` (throughput `beta`,
+/// drawn with density `pdf` per unit solid angle from the last vertex) until it holds
+/// `max_vertices`, leaves the scene, or is absorbed. Returns the background light a camera
+/// path met on leaving the scene (black for a light path). Each ray counts in `rays`.
+#[allow(clippy::too_many_arguments)]
+pub fn walk<R: SampleRng + ?Sized>(
+    scene: &Scene,
+    camera: &Camera,
+    direction: Direction,
+    (mut ray, mut beta, mut pdf): (Ray, Vec3, Real),
+    probe: Probe,
+    max_vertices: usize,
+    rng: &mut R,
+    path: &mut Vec<Vertex>,
+    rays: &mut u64,
+) -> Vec3 {
+    let media = scene.has_media();
+    for cast in 1u64.. {
+        if path.len() >= max_vertices {
+            break;
+        }
+        *rays += 1;
+        let medium_seed = if media { mix(probe.medium_seed ^ cast) } else { 0 };
+        let Some(hit) = scene.hit_world(&ray, &Probe { medium_seed, ..probe }) else {
+            return match direction {
+                Direction::FromCamera => beta * scene.background.radiance(ray.dir),
+                Direction::FromLight => Vec3::ZERO,
+            };
+        };
+        rng.bounce(cast as u32 - 1);
+        let material = scene.material(&hit);
+        let mut vertex = Vertex::at(hit, material, &scene.textures, beta);
+        let previous = path.len() - 1;
+        let to = vertex.point - path[previous].point;
+        vertex.pdf_fwd = vertex.area_density(pdf, ray.dir, to.length_squared());
+        path.push(vertex);
+        if path.len() >= max_vertices {
+            break;
+        }
+        let Some(scatter) = material.scatter(ray.dir, &hit, &scene.textures, rng) else { break };
+        beta *= scatter.attenuation;
+        if direction == Direction::FromLight {
+            beta *= refraction_reweight(material, ray.dir, &hit, scatter.direction);
+        }
+        // The densities of the two directions through here: the way on, and the way back.
+        let back = vertex.direction_pdf(-ray.dir, camera);
+        pdf = vertex.direction_pdf(scatter.direction, camera);
+        let d2 = to.length_squared();
+        path[previous].pdf_rev = path[previous].area_density(back, ray.dir, d2);
+        if beta == Vec3::ZERO {
+            break;
+        }
+        ray = hit.spawn(scatter.direction);
+    }
+    Vec3::ZERO
+}
+
+/// For a light path refracted by glass at `hit` (arriving along `incoming`, leaving along
+/// `out`): the camera's chance of refracting the other way, over the light path's own
+/// (Schlick's reflectance is taken at the angle on the arriving side); 1 otherwise.
+fn refraction_reweight(material: &Material, incoming: Vec3, hit: &Hit, out: Vec3) -> Real {
+    let Material::Dielectric { ior } = *material else { return 1.0 };
+    if out.dot(hit.normal) >= 0.0 {
+        return 1.0; // reflected: the same angle and side both ways
+    }
+    let ratio = if hit.front_face { 1.0 / ior } else { ior };
+    let own = schlick((-incoming).dot(hit.normal).min(1.0), ratio);
+    let camera = schlick((-out).dot(hit.normal).min(1.0), 1.0 / ratio);
+    (1.0 - camera) / (1.0 - own)
+}

@@ -1,0 +1,245 @@
+//! Bidirectional path tracing (`--light-sampling bdpt`): the same image as the other
+//! settings (unbiased, light paths' splats included), the same bits under every schedule and
+//! thread count, a camera read backwards exactly, and refusals where it cannot serve.
+
+mod deadline;
+mod rooms;
+
+use std::sync::Arc;
+
+use deadline::{raypool, scratch, within};
+use rand::SeedableRng;
+use rand::rngs::SmallRng;
+use raypool::files::image::Image;
+use raypool::scenes::builtin::builtin_scene;
+use raypool::scenes::format::SceneFile;
+use raypool::schedule::frame::Frame;
+use raypool::schedule::modes::{Rendered, Schedule, render};
+use raypool::schedule::random::{RngChoice, RngSource};
+use raypool::tracer::camera::{Camera, CameraSettings};
+use raypool::tracer::lighting::LightSampling;
+use raypool::tracer::math::real::{Real, to_f64};
+use raypool::tracer::render::{RenderJob, RenderSettings};
+use raypool::tracer::sampling::sampler::Sampler;
+use raypool::tracer::sampling::warp::uniform;
+use raypool::tracer::scene::Scene;
+use rooms::{CAMERA, inward_cube, lit_room};
+
+fn render_frame(scene: &Scene, settings: RenderSettings, schedule: Schedule, threads: usize) -> Rendered {
+    let rng = RngSource::new(&settings, RngChoice::PerSample);
+    let frame =
+        Arc::new(Frame::new(RenderJob::new(scene.clone(), settings), rng, threads, 8, Arc::new(|_| {})));
+    render(&frame, &schedule)
+}
+
+fn builtin(name: &str) -> String {
+    builtin_scene(name, 0).unwrap().to_toml()
+}
+
+fn parse(text: &str) -> Scene {
+    SceneFile::parse(text, "test.toml").unwrap_or_else(|e| panic!("{e}")).to_scene()
+}
+
+#[test]
+fn bdpt_gives_the_same_bits_under_every_schedule_thread_count_and_sampler() {
+    // Light paths splat into other tiles' pixels, summed in fixed point: any order, same bits.
+    within("the bdpt renders of cornell and cornell-smoke under every schedule to finish", || {
+        for (name, sampler) in [("cornell", Sampler::Sobol), ("cornell-smoke", Sampler::Independent)] {
+            let scene = parse(&builtin(name));
+            let settings = RenderSettings {
+                width: 24,
+                height: 24,
+                spp: 4,
+                seed: 3,
+                sampler,
+                light_sampling: LightSampling::Bdpt,
+                ..Default::default()
+            };
+            let serial = render_frame(&scene, settings, Schedule::Serial, 1);
+            let without_splats = render_frame(
+                &scene,
+                RenderSettings { light_sampling: LightSampling::Mis, ..settings },
+                Schedule::Serial,
+                1,
+            );
+            assert!(serial.image != without_splats.image, "{name}: bdpt renders its own image");
+            for schedule in Schedule::ALL {
+                for threads in [2, 5] {
+                    let other = render_frame(&scene, settings, schedule, threads);
+                    assert_eq!(other.rays, serial.rays, "{name}: {schedule:?} × {threads} cast other rays");
+                    assert!(
+                        other.image == serial.image,
+                        "{name}: {schedule:?} × {threads} changed the image"
+                    );
+                }
+            }
+        }
+    });
+}
+
+/// The mean of each quadrant and channel of `scene` under `light_sampling` over 8 seeds, with
+/// its standard error (from the 8, not guessed).
+fn quadrant_means(scene: &Scene, light_sampling: LightSampling, spp: u32) -> Vec<(f64, f64)> {
+    let side = 16;
+    let runs: Vec<Vec<f64>> = (1..=8)
+        .map(|seed| {
+            let settings =
+                RenderSettings { width: side, height: side, spp, seed, light_sampling, ..Default::default() };
+            let image: Image = render_frame(scene, settings, Schedule::Stealing, 2).image;
+            let mut sums = vec![0.0; 12];
+            for (k, p) in image.pixels.iter().enumerate() {
+                let (i, j) = (k as u32 % side, k as u32 / side);
+                let quadrant = (2 * (j / (side / 2)) + i / (side / 2)) as usize;
+                for (c, v) in p.to_array().iter().enumerate() {
+                    sums[3 * quadrant + c] += to_f64(*v) / (side * side / 4) as f64;
+                }
+            }
+            sums
+        })
+        .collect();
+    (0..12)
+        .map(|k| {
+            let values: Vec<f64> = runs.iter().map(|r| r[k]).collect();
+            let mean = values.iter().sum::<f64>() / 8.0;
+            let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 7.0;
+            (mean, (variance / 8.0).sqrt())
+        })
+        .collect()
+}
+
+#[test]
+fn bdpt_converges_to_the_image_that_path_tracing_renders() {
+    // Caustics through the glass ball seen directly (light tracing), light through smoke, a
+    // thin lens (light paths joined to points on the lens), and lights inside instances,
+    // triangles and a moving sphere. Each quadrant within 5 standard errors of `mis`'s.
+    within("the bdpt and mis renders of four lit scenes to finish", || {
+        let lens = builtin("cornell").replace("aperture = 0.0", "aperture = 60.0");
+        assert!(lens.contains("aperture = 60.0"), "the lens variant has a lens");
+        let room = lit_room();
+        for (name, text) in [
+            ("cornell", builtin("cornell")),
+            ("cornell-smoke", builtin("cornell-smoke")),
+            ("cornell, lens", lens),
+            ("room", room),
+        ] {
+            let scene = parse(&text);
+            let reference = quadrant_means(&scene, LightSampling::Mis, 64);
+            let bdpt = quadrant_means(&scene, LightSampling::Bdpt, 32);
+            for (k, ((a, sa), (b, sb))) in reference.iter().zip(&bdpt).enumerate() {
+                let limit = 5.0 * (sa * sa + sb * sb).sqrt();
+                assert!(
+                    (a - b).abs() <= limit,
+                    "{name}, quadrant {} channel {}: mis {a} ± {sa}, bdpt {b} ± {sb}",
+                    k / 3,
+                    k % 3
+                );
+            }
+        }
+    });
+}
+
+#[test]
+fn bdpt_keeps_the_emitting_furnace_exact_in_the_mean() {
+    // A closed box of walls that emit Le and reflect a: after D rays every pixel's value is
+    // Le·(1 − a^D)/(1 − a). Every strategy has work here (every wall is a light and a
+    // reflector); their weighted sum must keep that mean, at every depth.
+    within("the bdpt renders of the emitting furnace to finish", || {
+        let (le, a) = (0.75, 0.5);
+        for depth in [1u32, 2, 5, 12] {
+            let material = format!("{{ kind = \"diffuse_light\", emit = [{le}, {le}, {le}], albedo = {a} }}");
+            let text = format!("{CAMERA}[background]\nkind = \"black\"\n{}", inward_cube(&material));
+            let expected = le * (1.0 - f64::powi(a, depth as i32)) / (1.0 - a);
+            let settings = RenderSettings {
+                width: 12,
+                height: 12,
+                spp: 8,
+                max_depth: depth,
+                light_sampling: LightSampling::Bdpt,
+                ..Default::default()
+            };
+            let image = render_frame(&parse(&text), settings, Schedule::Serial, 1).image;
+            let values: Vec<f64> = image.pixels.iter().flat_map(|p| p.to_array().map(to_f64)).collect();
+            let n = values.len() as f64;
+            let mean = values.iter().sum::<f64>() / n;
+            let spread = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+            assert!(
+                (mean - expected).abs() <= 5.0 * spread / n.sqrt() + 1e-5 * expected,
+                "depth {depth}: mean {mean} against {expected} (noise {spread} a pixel)"
+            );
+        }
+    });
+}
+
+#[test]
+fn a_camera_ray_read_backwards_lands_in_the_pixel_it_left() {
+    // `Camera::pixel_of` is how a light path finds its pixel: for a pinhole and a lens, every
+    // camera ray of a pixel, followed to any distance, maps back to that pixel.
+    for aperture in [0.0, 0.3] {
+        let settings = CameraSettings {
+            lookfrom: [1.0, 2.0, 3.0],
+            lookat: [0.0, 0.5, -1.0],
+            vup: [0.0, 1.0, 0.0],
+            vfov: 50.0,
+            aperture,
+            focus_dist: Some(2.5),
+            aspect: 1.5,
+        };
+        let camera = Camera::new(&settings, 30, 20);
+        let mut rng = SmallRng::seed_from_u64(11);
+        for _ in 0..20_000 {
+            let (i, j) = ((uniform(&mut rng) * 30.0) as u32, (uniform(&mut rng) * 20.0) as u32);
+            let ray = camera.ray(i.min(29), j.min(19), &mut rng);
+            let far = 0.5 + 20.0 * uniform(&mut rng);
+            let found = camera.pixel_of(ray.origin, ray.at(far as Real));
+            // A sample on a pixel's very edge may round into its neighbour.
+            let near = found.is_some_and(|(x, y)| x.abs_diff(i.min(29)) <= 1 && y.abs_diff(j.min(19)) <= 1);
+            assert!(near, "aperture {aperture}: pixel ({i}, {j}) came back as {found:?}");
+        }
+        assert_eq!(
+            camera.pixel_of(camera.center_ray(15.0, 10.0).origin, camera.center_ray(15.0, 10.0).at(3.0)),
+            Some((15, 10))
+        );
+        let behind = camera.center_ray(15.0, 10.0);
+        assert_eq!(camera.pixel_of(behind.origin, behind.at(-3.0)), None, "behind the lens is no pixel");
+    }
+}
+
+#[test]
+fn bdpt_is_refused_where_its_splats_cannot_go() {
+    let dir = scratch("bdpt-refused");
+    let refused = |extra: &[&str], needle: &str| {
+        let mut args =
+            vec!["render", "--scene", "cornell", "--width", "16", "--spp", "2", "--light-sampling", "bdpt"];
+        args.extend_from_slice(extra);
+        let out = raypool(&args, &dir);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{extra:?}: one line: {stderr}");
+        assert!(stderr.contains(needle), "{extra:?}: '{needle}' not in {stderr}");
+    };
+    refused(&["--shard", "0/2", "--out", "a.rpart"], "part file");
+    refused(&["--target-error", "0.1", "--out", "a.pfm"], "--target-error");
+    refused(&["--roulette", "--out", "a.pfm"], "--roulette");
+    let out = raypool(
+        &[
+            "render",
+            "--scene",
+            "mesh",
+            "--width",
+            "16",
+            "--spp",
+            "1",
+            "--light-sampling",
+            "bdpt",
+            "--out",
+            "m.pfm",
+        ],
+        &dir,
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() || stderr.contains("normals"), "mesh: {stderr}");
+    assert!(
+        std::fs::read_dir(&dir).unwrap().all(|e| !e.unwrap().file_name().to_string_lossy().starts_with('a')),
+        "no file left"
+    );
+}
