@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Light sampling measured: time to a given error on `cornell` and `cornell-smoke` under
---light-sampling bsdf, mixture and mis, and adaptive sampling under mis (issue #36's first
+--light-sampling bsdf, mixture, mis and bdpt, and adaptive sampling under mis (issue #36's first
 figures; the error bench's plots are still to come), and on `cornell` with its glass sphere made
 white: the light seen through glass is what no light sample can reach.
 
@@ -29,7 +29,7 @@ REF_SPP = 256 if QUICK else 2048
 SCENES = ["cornell", "cornell-smoke", "cornell-white-sphere"]
 # A scene made here from a built-in one: (built-in, text replaced, replacement).
 DERIVED = {"cornell-white-sphere": ("cornell", 'radius = 90.0\nmaterial = "glass"', 'radius = 90.0\nmaterial = "white"')}
-SPPS = {"bsdf": [16, 64, 256, 1024], "mixture": [16, 64, 256], "mis": [4, 16, 64, 256]}
+SPPS = {"bsdf": [16, 64, 256, 1024], "mixture": [16, 64, 256], "mis": [4, 16, 64, 256], "bdpt": [4, 16, 64, 256]}
 TARGETS = [0.1, 0.05, 0.025]
 RUNS = 1 if QUICK else 3
 THREADS = "2"
