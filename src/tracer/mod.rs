@@ -12,7 +12,7 @@
 //! | [`scene`] | the scene that holds them all, and the one hit search that dispatches to the chosen tree |
 //! | [`lighting`] | how a path finds the lights: a material's bounce, the mixture, or multiple importance sampling |
 //! | [`bidir`] | bidirectional path tracing: camera and light paths joined, weighted over every strategy |
-//! | [`tile`] | how an image is cut into tiles, and tiles into shards |
+//! | [`tile`] | how an image is cut into tiles, and tiles into shards; a tile's running pixel sums |
 //! | [`render`] | the one render loop that turns a tile of pixels into colours |
 //!
 //! A room uses only the rooms listed before it in this table (`tests/layers.rs` checks it, and

@@ -10,8 +10,6 @@ use std::sync::Arc;
 use std::thread::ThreadId;
 use std::time::Duration;
 
-use glam::DVec3;
-
 use crate::error::Error;
 use crate::tracer::bidir::connect::{Bidir, Paths};
 use crate::tracer::bidir::splat::Splats;
@@ -21,11 +19,12 @@ use crate::tracer::lighting::{
     LightSampling, SHADOW_KEY, lobe_pdf, mixture_bounce, next_event, power_heuristic,
 };
 use crate::tracer::math::ray::Ray;
-use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3};
+use crate::tracer::math::real::{Real, Vec3, to_dvec3};
 use crate::tracer::sampling::independent::{PerSample, mix};
 use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, SampleRng, Sampler};
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
+pub use crate::tracer::tile::PixelSums;
 use crate::tracer::tile::Tile;
 use crate::tracer::world::object::Probe;
 
@@ -207,47 +206,6 @@ pub fn render_tile_with<S: RandomStreams>(
     TileOutput { tile, pixels: sums.means(), rays, samples: sums.samples(), splats, timing: None }
 }
 
-/// The running sums of a tile's pixels: each pixel's sample sum (f64) and sample count.
-///
-/// The sum is f64, as pbrt's film: in f32 a sum of 2^20 samples near 0.4 is near 4·10⁵, where
-/// f32's spacing is 0.03, and every sample added is rounded to it (measured: up to 1.3·10⁻³
-/// relative at 2^20 samples, `results/accumulation.md`). Samples are always added in sample
-/// order, so a pixel's mean after `n` samples is the same bits however many passes added them.
-///
-/// Odd-numbered samples are also summed apart: the pixel's two half-estimates (even and odd
-/// samples) are independent, and their difference is what adaptive sampling judges it by.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct PixelSums {
-    sums: Vec<DVec3>,
-    odd: Vec<DVec3>,
-    counts: Vec<u32>,
-    /// What the samples' light paths splatted into any pixel of the image.
-    pub splats: Splats,
-}
-
-impl PixelSums {
-    /// `pixels` pixels with no samples yet.
-    pub fn new(pixels: usize) -> PixelSums {
-        let zeros = vec![DVec3::ZERO; pixels];
-        PixelSums { sums: zeros.clone(), odd: zeros, counts: vec![0; pixels], splats: Splats::default() }
-    }
-
-    /// Each pixel's mean (black before its first sample).
-    pub fn means(&self) -> Vec<Vec3> {
-        self.sums.iter().zip(&self.counts).map(|(&s, &n)| from_dvec3(s / f64::from(n.max(1)))).collect()
-    }
-
-    /// Samples taken, all pixels together.
-    pub fn samples(&self) -> u64 {
-        self.counts.iter().map(|&n| u64::from(n)).sum()
-    }
-
-    /// Pixel `k`'s (sum of all samples, sum of its odd-numbered samples, sample count).
-    pub fn pixel(&self, k: usize) -> (DVec3, DVec3, u32) {
-        (self.sums[k], self.odd[k], self.counts[k])
-    }
-}
-
 /// Adds samples `samples(i, j)` (sample numbers, for example `0..1`, then `1..4`; an empty
 /// range for a pixel that takes none) of every pixel `(i, j)` of `tile` to `sums` (the tile's
 /// pixels, row-major), drawing from `streams`; returns the rays cast. This is the one render
@@ -297,7 +255,7 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
     sums: &mut PixelSums,
     closest_hit: impl Fn(&Ray) -> Option<Hit>,
 ) -> u64 {
-    assert_eq!(sums.sums.len(), tile.area(), "one running sum per pixel of the tile");
+    assert_eq!(sums.len(), tile.area(), "one running sum per pixel of the tile");
     let width = job.settings.width as u64;
     let mut rays = 0;
     // Bidirectional samples where asked for and the scene has lights to start from.
@@ -356,11 +314,7 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
                 ),
             };
             let value = to_dvec3(value);
-            sums.sums[k] += value;
-            if sample % 2 == 1 {
-                sums.odd[k] += value;
-            }
-            sums.counts[k] += 1;
+            sums.add(k, sample, value);
         }
     }
     rays

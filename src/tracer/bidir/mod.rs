@@ -7,11 +7,13 @@
 //! weak.
 //!
 //! Read in this order: a path's [`vertex`] and its densities; the [`walk`] that makes both
-//! paths; the [`weight`] of a connection; the [`connect`]ions of one sample; the [`splat`]s
+//! paths, and the densities it measures through [`chain`]s of mirrors and glass; the
+//! [`weight`] of a connection; the [`connect`]ions of one sample; the [`splat`]s
 //! that light paths leave in other pixels, summed in fixed point so the image stays
 //! bit-identical whatever the schedule.
 
 pub mod vertex;
+pub mod chain;
 pub mod walk;
 pub mod weight;
 pub mod connect;

@@ -131,9 +131,12 @@ impl Vertex {
 
     /// The density per unit area (volume, in a medium) with which a walk at `self` draws
     /// `next`: its direction density times the Jacobian `|cos| / d²` at `next` (no cosine in
-    /// a medium).
+    /// a medium); 0 for a delta `next`.
     #[inline]
     pub fn density_to(&self, next: &Vertex, camera: &Camera) -> Real {
+        if !next.connectable() {
+            return 0.0; // a delta vertex: its density is the chain's, on the vertex after it
+        }
         let to = next.point - self.point;
         let d2 = to.length_squared();
         let dir = to / d2.sqrt();

@@ -9,9 +9,11 @@
 //! path that refracts is weighed by the ratio of the camera's chance of that refraction, read
 //! backwards, to its own: both directions then estimate the same light.
 
-use crate::tracer::bidir::vertex::Vertex;
+use crate::tracer::bidir::chain::density_through;
+use crate::tracer::bidir::vertex::{Kind, Vertex};
 use crate::tracer::camera::Camera;
 use crate::tracer::geometry::hit::Hit;
+use crate::tracer::lighting::PI;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::independent::mix;
@@ -46,6 +48,10 @@ pub fn walk<R: SampleRng + ?Sized>(
     rays: &mut u64,
 ) -> Vec3 {
     let media = scene.has_media();
+    // The last vertex that scatters into every direction (or the path's first), the direction
+    // the walk left it in and that direction's density: where a chain of mirrors and glass,
+    // if one follows, begins (`chain.rs`).
+    let mut anchor = (path.len() - 1, ray.dir, pdf);
     for cast in 1u64.. {
         if path.len() >= max_vertices {
             break;
@@ -61,9 +67,9 @@ pub fn walk<R: SampleRng + ?Sized>(
         rng.bounce(cast as u32 - 1);
         let material = scene.material(&hit);
         let mut vertex = Vertex::at(hit, material, &scene.textures, beta);
-        let previous = path.len() - 1;
-        let to = vertex.point - path[previous].point;
-        vertex.pdf_fwd = vertex.area_density(pdf, ray.dir, to.length_squared());
+        if vertex.connectable() || vertex.emitted != Vec3::ZERO {
+            link(scene, camera, path, anchor, &mut vertex, Probe { medium_seed: 0, ..probe });
+        }
         path.push(vertex);
         if path.len() >= max_vertices {
             break;
@@ -73,17 +79,50 @@ pub fn walk<R: SampleRng + ?Sized>(
         if direction == Direction::FromLight {
             beta *= refraction_reweight(material, ray.dir, &hit, scatter.direction);
         }
-        // The densities of the two directions through here: the way on, and the way back.
-        let back = vertex.direction_pdf(-ray.dir, camera);
-        pdf = vertex.direction_pdf(scatter.direction, camera);
-        let d2 = to.length_squared();
-        path[previous].pdf_rev = path[previous].area_density(back, ray.dir, d2);
+        if vertex.connectable() {
+            pdf = vertex.direction_pdf(scatter.direction, camera);
+            anchor = (path.len() - 1, scatter.direction, pdf);
+        }
         if beta == Vec3::ZERO {
             break;
         }
         ray = hit.spawn(scatter.direction);
     }
     Vec3::ZERO
+}
+
+/// Sets the two densities between `vertex` (which scatters into every direction, or emits)
+/// and the anchor it was reached from: straight, or through the mirrors and glass after it.
+fn link(
+    scene: &Scene,
+    camera: &Camera,
+    path: &mut [Vertex],
+    anchor: (usize, Vec3, Real),
+    vertex: &mut Vertex,
+    probe: Probe,
+) {
+    let (a, dir, pdf) = anchor;
+    let last = path[path.len() - 1].point;
+    let back = (last - vertex.point).normalize();
+    // The other walk's density here: a light's cosine law where this emits, else its lobe.
+    let other = if vertex.emitted != Vec3::ZERO {
+        back.dot(vertex.normal).max(0.0) / PI
+    } else {
+        vertex.direction_pdf(back, camera)
+    };
+    if a == path.len() - 1 {
+        let d2 = (vertex.point - path[a].point).length_squared();
+        vertex.pdf_fwd = vertex.area_density(pdf, dir, d2);
+        path[a].pdf_rev = path[a].area_density(other, back, d2);
+        return;
+    }
+    let chain = &path[a + 1..];
+    vertex.pdf_fwd = density_through(scene, &path[a], dir, pdf, chain, vertex, probe);
+    // No walk draws the camera's point: its density is never asked for.
+    if path[a].kind != Kind::Camera {
+        let reversed: Vec<Vertex> = chain.iter().rev().copied().collect();
+        path[a].pdf_rev = density_through(scene, vertex, back, other, &reversed, &path[a], probe);
+    }
 }
 
 /// For a light path refracted by glass at `hit` (arriving along `incoming`, leaving along
