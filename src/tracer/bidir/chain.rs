@@ -28,7 +28,9 @@ const STEP: Real = 1e-3;
 
 /// The density per unit area at `end` of a walk that leaves `start` in the unit direction
 /// `dir` with density `pdf` per unit solid angle and passes the specular vertices `chain`
-/// (`probe`: the path's time; media play no part). 0 where it cannot be measured.
+/// (`probe`: the path's time; media play no part). 0 where it cannot be measured. The rays
+/// it casts count in `rays`.
+#[allow(clippy::too_many_arguments)]
 pub fn density_through(
     scene: &Scene,
     start: &Vertex,
@@ -37,12 +39,14 @@ pub fn density_through(
     chain: &[Vertex],
     end: &Vertex,
     probe: Probe,
+    rays: &mut u64,
 ) -> Real {
     if end.kind == Kind::Medium || pdf <= 0.0 {
         return 0.0;
     }
     let (u, v) = dir.any_orthonormal_pair();
-    let land = |a: Real, b: Real| follow(scene, start, (dir + a * u + b * v).normalize(), chain, end, probe);
+    let mut land =
+        |a: Real, b: Real| follow(scene, start, (dir + a * u + b * v).normalize(), chain, end, probe, rays);
     // The chain followed along `dir` itself lands on `end`: forward differences need two.
     let (Some(along_u), Some(along_v)) = (land(STEP, 0.0), land(0.0, STEP)) else { return 0.0 };
     let jacobian = ((along_u - end.point).cross(along_v - end.point) / (STEP * STEP)).length();
@@ -59,6 +63,7 @@ fn follow(
     chain: &[Vertex],
     end: &Vertex,
     probe: Probe,
+    rays: &mut u64,
 ) -> Option<Vec3> {
     let mut ray = match &start.hit {
         Some(hit) => hit.spawn(dir),
@@ -69,6 +74,7 @@ fn follow(
         },
     };
     for (k, vertex) in chain.iter().enumerate() {
+        *rays += 1;
         let hit = scene.hit_world(&ray, &probe)?;
         if hit.material != vertex.hit?.material {
             return None;

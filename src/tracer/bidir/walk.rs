@@ -68,7 +68,7 @@ pub fn walk<R: SampleRng + ?Sized>(
         let material = scene.material(&hit);
         let mut vertex = Vertex::at(hit, material, &scene.textures, beta);
         if vertex.connectable() || vertex.emitted != Vec3::ZERO {
-            link(scene, camera, path, anchor, &mut vertex, Probe { medium_seed: 0, ..probe });
+            link(scene, camera, path, anchor, &mut vertex, Probe { medium_seed: 0, ..probe }, rays);
         }
         path.push(vertex);
         if path.len() >= max_vertices {
@@ -92,7 +92,8 @@ pub fn walk<R: SampleRng + ?Sized>(
 }
 
 /// Sets the two densities between `vertex` (which scatters into every direction, or emits)
-/// and the anchor it was reached from: straight, or through the mirrors and glass after it.
+/// and the anchor it was reached from: straight, or through the mirrors and glass after it
+/// (whose rays count in `rays`).
 fn link(
     scene: &Scene,
     camera: &Camera,
@@ -100,6 +101,7 @@ fn link(
     anchor: (usize, Vec3, Real),
     vertex: &mut Vertex,
     probe: Probe,
+    rays: &mut u64,
 ) {
     let (a, dir, pdf) = anchor;
     let last = path[path.len() - 1].point;
@@ -117,11 +119,11 @@ fn link(
         return;
     }
     let chain = &path[a + 1..];
-    vertex.pdf_fwd = density_through(scene, &path[a], dir, pdf, chain, vertex, probe);
+    vertex.pdf_fwd = density_through(scene, &path[a], dir, pdf, chain, vertex, probe, rays);
     // No walk draws the camera's point: its density is never asked for.
     if path[a].kind != Kind::Camera {
         let reversed: Vec<Vertex> = chain.iter().rev().copied().collect();
-        path[a].pdf_rev = density_through(scene, vertex, back, other, &reversed, &path[a], probe);
+        path[a].pdf_rev = density_through(scene, vertex, back, other, &reversed, &path[a], probe, rays);
     }
 }
 
