@@ -23,7 +23,7 @@ use raypool::tracer::render::{RenderJob, RenderSettings};
 use raypool::tracer::sampling::sampler::Sampler;
 use raypool::tracer::sampling::warp::uniform;
 use raypool::tracer::scene::Scene;
-use rooms::{CAMERA, inward_cube, lit_room};
+use rooms::{CAMERA, assert_within_five_errors, inward_cube, lit_room, mean_and_error, quadrant_sums};
 
 fn render_frame(scene: &Scene, settings: RenderSettings, schedule: Schedule, threads: usize) -> Rendered {
     let rng = RngSource::new(&settings, RngChoice::PerSample);
@@ -86,25 +86,10 @@ fn quadrant_means(scene: &Scene, light_sampling: LightSampling, spp: u32) -> Vec
             let settings =
                 RenderSettings { width: side, height: side, spp, seed, light_sampling, ..Default::default() };
             let image: Image = render_frame(scene, settings, Schedule::Stealing, 2).image;
-            let mut sums = vec![0.0; 12];
-            for (k, p) in image.pixels.iter().enumerate() {
-                let (i, j) = (k as u32 % side, k as u32 / side);
-                let quadrant = (2 * (j / (side / 2)) + i / (side / 2)) as usize;
-                for (c, v) in p.to_array().iter().enumerate() {
-                    sums[3 * quadrant + c] += to_f64(*v) / (side * side / 4) as f64;
-                }
-            }
-            sums
+            quadrant_sums(&image.pixels, side)
         })
         .collect();
-    (0..12)
-        .map(|k| {
-            let values: Vec<f64> = runs.iter().map(|r| r[k]).collect();
-            let mean = values.iter().sum::<f64>() / 8.0;
-            let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 7.0;
-            (mean, (variance / 8.0).sqrt())
-        })
-        .collect()
+    mean_and_error(&runs)
 }
 
 #[test]
@@ -125,15 +110,7 @@ fn bdpt_converges_to_the_image_that_path_tracing_renders() {
             let scene = parse(&text);
             let reference = quadrant_means(&scene, LightSampling::Mis, 64);
             let bdpt = quadrant_means(&scene, LightSampling::Bdpt, 32);
-            for (k, ((a, sa), (b, sb))) in reference.iter().zip(&bdpt).enumerate() {
-                let limit = 5.0 * (sa * sa + sb * sb).sqrt();
-                assert!(
-                    (a - b).abs() <= limit,
-                    "{name}, quadrant {} channel {}: mis {a} ± {sa}, bdpt {b} ± {sb}",
-                    k / 3,
-                    k % 3
-                );
-            }
+            assert_within_five_errors(name, ("mis", &reference), ("bdpt", &bdpt));
         }
     });
 }

@@ -12,7 +12,7 @@ use raypool::tracer::sampling::sobol::SobolStreams;
 use raypool::tracer::scene::Scene;
 use raypool::tracer::tile::Tile;
 use raypool::tracer::world::object::Probe;
-use rooms::{CAMERA, inward_cube, lit_room};
+use rooms::{CAMERA, assert_within_five_errors, inward_cube, lit_room, mean_and_error, quadrant_sums};
 
 fn render(text: &str, settings: RenderSettings) -> Vec<Vec3> {
     render_scene(&parse(text), settings)
@@ -395,25 +395,10 @@ fn quadrant_means(scene: &Scene, light_sampling: LightSampling) -> Vec<(f64, f64
                 ..Default::default()
             };
             let pixels = render_scene(scene, settings);
-            let mut sums = vec![0.0; 12];
-            for (k, p) in pixels.iter().enumerate() {
-                let (i, j) = (k as u32 % side, k as u32 / side);
-                let quadrant = (2 * (j / (side / 2)) + i / (side / 2)) as usize;
-                for (c, v) in p.to_array().iter().enumerate() {
-                    sums[3 * quadrant + c] += to_f64(*v) / (side * side / 4) as f64;
-                }
-            }
-            sums
+            quadrant_sums(&pixels, side)
         })
         .collect();
-    (0..12)
-        .map(|k| {
-            let values: Vec<f64> = runs.iter().map(|r| r[k]).collect();
-            let mean = values.iter().sum::<f64>() / 8.0;
-            let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 7.0;
-            (mean, (variance / 8.0).sqrt())
-        })
-        .collect()
+    mean_and_error(&runs)
 }
 
 /// Each quadrant's mean colour of `text` under `mixture` and `mis` against `bsdf`'s, within 5
@@ -422,15 +407,7 @@ fn assert_the_three_light_samplings_agree(name: &str, scene: &Scene) {
     let reference = quadrant_means(scene, LightSampling::Bsdf);
     for light_sampling in [LightSampling::Mixture, LightSampling::Mis] {
         let other = quadrant_means(scene, light_sampling);
-        for (k, ((a, sa), (b, sb))) in reference.iter().zip(&other).enumerate() {
-            let limit = 5.0 * (sa * sa + sb * sb).sqrt();
-            assert!(
-                (a - b).abs() <= limit,
-                "{name}, quadrant {} channel {}: bsdf {a} ± {sa}, {light_sampling:?} {b} ± {sb}",
-                k / 3,
-                k % 3
-            );
-        }
+        assert_within_five_errors(name, ("bsdf", &reference), (light_sampling.name(), &other));
     }
 }
 

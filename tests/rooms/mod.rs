@@ -1,5 +1,5 @@
-//! Small test scenes shared by the tests of the world (`world.rs`) and of bidirectional path
-//! tracing (`bidir.rs`).
+//! Small test scenes, and the quadrant statistics by which renders are compared, shared by the
+//! tests of the world (`world.rs`) and of bidirectional path tracing (`bidir.rs`).
 #![allow(dead_code)]
 
 /// A camera at the origin looking down −z with a 60° view, its focus 1 away.
@@ -42,4 +42,45 @@ pub fn lit_room() -> String {
          [[group.triangle]]\nvertices = [[0.5, -0.5, -0.2], [0.5, -0.5, 0.2], [0.5, -0.1, 0.0]]\nmaterial = {lamp}\n",
         room = inward_cube("{ kind = \"lambertian\", albedo = [0.7, 0.7, 0.7] }"),
     )
+}
+
+/// The mean colour of each quadrant of a `side × side` image (row-major `pixels`), per channel:
+/// 12 numbers, quadrant by quadrant.
+pub fn quadrant_sums(pixels: &[raypool::tracer::math::real::Vec3], side: u32) -> Vec<f64> {
+    let mut sums = vec![0.0; 12];
+    for (k, p) in pixels.iter().enumerate() {
+        let (i, j) = (k as u32 % side, k as u32 / side);
+        let quadrant = (2 * (j / (side / 2)) + i / (side / 2)) as usize;
+        for (c, v) in p.to_array().iter().enumerate() {
+            sums[3 * quadrant + c] += raypool::tracer::math::real::to_f64(*v) / (side * side / 4) as f64;
+        }
+    }
+    sums
+}
+
+/// Over independent `runs` of the same numbers, each number's mean and its standard error.
+pub fn mean_and_error(runs: &[Vec<f64>]) -> Vec<(f64, f64)> {
+    let n = runs.len() as f64;
+    (0..runs[0].len())
+        .map(|k| {
+            let mean = runs.iter().map(|r| r[k]).sum::<f64>() / n;
+            let variance = runs.iter().map(|r| (r[k] - mean).powi(2)).sum::<f64>() / (n - 1.0);
+            (mean, (variance / n).sqrt())
+        })
+        .collect()
+}
+
+/// Asserts that each of `ours` (mean, standard error) lies within 5 combined standard errors of
+/// `theirs` (quadrant by quadrant, channel by channel, as [`quadrant_sums`] orders them).
+pub fn assert_within_five_errors(what: &str, theirs: (&str, &[(f64, f64)]), ours: (&str, &[(f64, f64)])) {
+    for (k, ((a, sa), (b, sb))) in theirs.1.iter().zip(ours.1).enumerate() {
+        assert!(
+            (a - b).abs() <= 5.0 * (sa * sa + sb * sb).sqrt(),
+            "{what}, quadrant {} channel {}: {} {a} ± {sa}, {} {b} ± {sb}",
+            k / 3,
+            k % 3,
+            theirs.0,
+            ours.0
+        );
+    }
 }
