@@ -4,11 +4,14 @@
 //! Densities are per unit *area* (per unit volume in a medium), so that the densities of one
 //! vertex drawn by the camera's walk and by the light's compare directly (Veach 1997, §10.2):
 //! `pdf_fwd` is the density with which its own walk drew it, `pdf_rev` the density with which
-//! the other walk would have, from its next vertex. A mirror or glass vertex scatters into one
-//! direction: no connection can end on it, and its densities are 0 ("delta"), which the
-//! weights read as "cancels" (`weight.rs`). So does a fuzzy mirror's: its density, unknown in
-//! closed form, is the same both ways (the fuzz is symmetric about the mirror direction), so
-//! it cancels as well.
+//! the other walk would have, from the nearest vertex on that side that scatters into every
+//! direction. A mirror or glass vertex scatters into one direction: no connection can end on
+//! it, and its own densities are 0 ("delta"), which the weights read as "cancels"
+//! (`weight.rs`); the vertices on either side of such a chain carry the density through it
+//! (`chain.rs`). A fuzzy mirror is treated as a mirror there: its density, unknown in closed
+//! form, is the same both ways (the fuzz is symmetric about the mirror direction), and the
+//! chain is followed along the mirror direction, so its weights are approximate but still a
+//! function of the path alone (the image stays unbiased).
 
 use crate::tracer::camera::Camera;
 use crate::tracer::geometry::hit::Hit;
