@@ -6,7 +6,8 @@
 //! path's first `t`. Its density is the product of the light walk's densities of `x₀ … x_{s−1}`
 //! and the camera walk's of `x_s … x_k`, so the strategies' densities differ by one factor a
 //! step: `p_{s+1} / p_s = p_light(x_s) / p_cam(x_s)`. The power heuristic's weight is
-//! `p_s² / Σ p_{s'}²` over the strategies that are used and can make the path; this walks
+//! `p_s² / Σ p_{s'}²` over the strategies that are used and can make the path (light tracing's
+//! `p` scaled by its share, [`Limits::light_tracing_share`]); this walks
 //! those ratios out from `s` both ways, as pbrt does (`MISWeight`). A delta vertex (mirror,
 //! glass) has density 0 on both sides, read as 1 (the delta cancels), and no connection may
 //! end on it.
@@ -20,13 +21,16 @@ use crate::tracer::math::real::Real;
 
 /// Which strategies are used: every camera path (`s = 0`) and shadow ray (`s = 1`); light
 /// paths of at most `light_vertices` vertices, joined to the camera (`t = 1`) or to the camera
-/// path's first `connect_vertices − 1` bounces.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// path's first `connect_vertices − 1` bounces; and the share at which light tracing (`t = 1`)
+/// is weighed.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits {
     /// The most vertices of a light path (its point on the light included).
     pub light_vertices: usize,
     /// The most camera-path vertices (the camera included) a light path's vertex is joined to.
     pub connect_vertices: usize,
+    /// The factor light tracing's density is weighed by against the others'.
+    pub light_tracing_share: Real,
 }
 
 impl Limits {
@@ -79,19 +83,22 @@ pub fn weight(light: &[Vertex], camera: &[Vertex], ends: &Ends, limits: Limits) 
         _ => light[i].pdf_rev,
     };
     let possible = |s2: usize| limits.used(s2, k + 1 - s2) && (s2 == 0 || (!delta(s2 - 1) && !delta(s2)));
+    // Light tracing's density counted at its share (`Limits::light_tracing_share`).
+    let share = |s2: usize| if s2 == k { limits.light_tracing_share } else { 1.0 };
+    let own = share(s);
     let mut sum = 1.0;
     let mut ratio = 1.0;
     for s2 in s + 1..=k {
         ratio *= cancel_delta(p_light(s2 - 1)) / cancel_delta(p_camera(s2 - 1));
         if possible(s2) {
-            sum += ratio * ratio;
+            sum += (ratio * share(s2) / own).powi(2);
         }
     }
     ratio = 1.0;
     for s2 in (0..s).rev() {
         ratio *= cancel_delta(p_camera(s2)) / cancel_delta(p_light(s2));
         if possible(s2) {
-            sum += ratio * ratio;
+            sum += (ratio * share(s2) / own).powi(2);
         }
     }
     let w = 1.0 / sum;
