@@ -26,8 +26,25 @@ use crate::tracer::world::object::Probe;
 /// The angle by which the chain's start direction is moved to measure its Jacobian.
 const STEP: Real = 1e-3;
 
+/// The specular vertices between two vertices of a path, walked in the path's order or
+/// backwards (the other walk's way), without copying them.
+#[derive(Clone, Copy, Debug)]
+pub struct Chain<'a> {
+    /// The vertices, in the order the path met them.
+    pub vertices: &'a [Vertex],
+    /// Whether they are walked from the last to the first.
+    pub backwards: bool,
+}
+
+impl Chain<'_> {
+    /// The `k`-th vertex met on this walk.
+    fn at(&self, k: usize) -> &Vertex {
+        if self.backwards { &self.vertices[self.vertices.len() - 1 - k] } else { &self.vertices[k] }
+    }
+}
+
 /// The density per unit area at `end` of a walk that leaves `start` in the unit direction
-/// `dir` with density `pdf` per unit solid angle and passes the specular vertices `chain`
+/// `dir` with density `pdf` per unit solid angle and passes the specular vertices of `chain`
 /// (`probe`: the path's time; media play no part). 0 where it cannot be measured. The rays
 /// it casts count in `rays`.
 #[allow(clippy::too_many_arguments)]
@@ -36,7 +53,7 @@ pub fn density_through(
     start: &Vertex,
     dir: Vec3,
     pdf: Real,
-    chain: &[Vertex],
+    chain: Chain,
     end: &Vertex,
     probe: Probe,
     rays: &mut u64,
@@ -60,7 +77,7 @@ fn follow(
     scene: &Scene,
     start: &Vertex,
     dir: Vec3,
-    chain: &[Vertex],
+    chain: Chain,
     end: &Vertex,
     probe: Probe,
     rays: &mut u64,
@@ -73,14 +90,16 @@ fn follow(
             dir,
         },
     };
-    for (k, vertex) in chain.iter().enumerate() {
+    let n = chain.vertices.len();
+    for k in 0..n {
+        let vertex = chain.at(k);
         *rays += 1;
         let hit = scene.hit_world(&ray, &probe)?;
         if hit.material != vertex.hit?.material {
             return None;
         }
-        let before = if k == 0 { start.point } else { chain[k - 1].point };
-        let after = chain.get(k + 1).map_or(end.point, |v| v.point);
+        let before = if k == 0 { start.point } else { chain.at(k - 1).point };
+        let after = if k + 1 == n { end.point } else { chain.at(k + 1).point };
         // The path refracted here if its two sides lie on opposite sides of the surface (in
         // either direction of travel).
         let side = |p: Vec3| (p - vertex.point).dot(vertex.normal) > 0.0;

@@ -9,7 +9,7 @@
 //! path that refracts is weighed by the ratio of the camera's chance of that refraction, read
 //! backwards, to its own: both directions then estimate the same light.
 
-use crate::tracer::bidir::chain::density_through;
+use crate::tracer::bidir::chain::{Chain, density_through};
 use crate::tracer::bidir::vertex::{Kind, Vertex};
 use crate::tracer::camera::Camera;
 use crate::tracer::geometry::hit::Hit;
@@ -119,11 +119,12 @@ fn link(
         return;
     }
     let chain = &path[a + 1..];
-    vertex.pdf_fwd = density_through(scene, &path[a], dir, pdf, chain, vertex, probe, rays);
+    let forwards = Chain { vertices: chain, backwards: false };
+    vertex.pdf_fwd = density_through(scene, &path[a], dir, pdf, forwards, vertex, probe, rays);
     // No walk draws the camera's point: its density is never asked for.
     if path[a].kind != Kind::Camera {
-        let reversed: Vec<Vertex> = chain.iter().rev().copied().collect();
-        path[a].pdf_rev = density_through(scene, vertex, back, other, &reversed, &path[a], probe, rays);
+        let backwards = Chain { vertices: chain, backwards: true };
+        path[a].pdf_rev = density_through(scene, vertex, back, other, backwards, &path[a], probe, rays);
     }
 }
 
