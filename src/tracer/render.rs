@@ -15,6 +15,7 @@ use crate::tracer::bidir::connect::{Bidir, Paths};
 use crate::tracer::bidir::splat::Splats;
 use crate::tracer::camera::{Camera, CameraSettings};
 use crate::tracer::geometry::hit::Hit;
+use crate::tracer::lighting::manifold::{self, Passing, manifold_event};
 use crate::tracer::lighting::{
     LightSampling, SHADOW_KEY, lobe_pdf, mixture_bounce, next_event, power_heuristic,
 };
@@ -24,6 +25,7 @@ use crate::tracer::sampling::independent::{PerSample, mix};
 use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, SampleRng, Sampler};
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
+use crate::tracer::shading::material::Lobe;
 pub use crate::tracer::tile::PixelSums;
 use crate::tracer::tile::Tile;
 use crate::tracer::world::object::Probe;
@@ -349,6 +351,11 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
     // that bounce was weighed against a light sample (MIS): an emitter it reaches is then
     // weighted by the power heuristic. Otherwise an emitter counts whole.
     let mut weighed: Option<(Vec3, Real)> = None;
+    // Under `mis`, with glass balls and lights: each diffuse hit also aims at a light through
+    // a ball (`lighting/manifold.rs`), and its bounce is followed through a ball to weigh a
+    // light it meets there against that.
+    let caustics = WORLD && aiming == LightSampling::Mis && !scene.casters().is_empty();
+    let mut passing: Option<Passing> = None;
     for cast in 1..=settings.max_depth {
         *rays += 1;
         let medium_seed =
@@ -363,11 +370,13 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
         let material = scene.material(&hit);
         if WORLD {
             let emitted = material.emitted(&hit);
-            let weight = match weighed {
-                Some((from, bsdf_pdf)) if emitted != Vec3::ZERO => {
+            let weight = match (weighed, passing) {
+                _ if emitted == Vec3::ZERO => 1.0,
+                (Some((from, bsdf_pdf)), _) => {
                     power_heuristic(bsdf_pdf, scene.lights().pdf_of_hit(from, &hit, emitted, start.time))
                 }
-                _ => 1.0,
+                (None, Some(passing)) => passing.weight(scene, &hit, emitted),
+                (None, None) => 1.0,
             };
             radiance += throughput * emitted * weight;
         }
@@ -377,6 +386,13 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
         weighed = None;
         // Tested first, so that a first-book scene (always `Bsdf`) has no further work here.
         let lobe = if aiming == LightSampling::Bsdf { None } else { material.lobe() };
+        if caustics {
+            passing = if lobe.is_some() {
+                None
+            } else {
+                passing.and_then(|p| p.next(scene, &hit, scatter.direction))
+            };
+        }
         if let Some(lobe) = lobe {
             rng.light(cast - 1);
             match aiming {
@@ -384,7 +400,16 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
                     let shadow = Probe { medium_seed: medium_seed ^ SHADOW_KEY, ..start };
                     let direct = next_event(scene, &hit, lobe, shadow, rng, rays);
                     radiance += throughput * scatter.attenuation * direct;
-                    weighed = Some((hit.departure(), lobe_pdf(lobe, scatter.direction, hit.normal)));
+                    let bsdf_pdf = lobe_pdf(lobe, scatter.direction, hit.normal);
+                    weighed = Some((hit.departure(), bsdf_pdf));
+                    if caustics && lobe == Lobe::Cosine && cast + manifold::RAYS <= settings.max_depth {
+                        // Fewer solves where the path carries little (`lighting/manifold.rs`).
+                        let carried = throughput * scatter.attenuation;
+                        let chance = (2.0 * carried.max_element()).min(1.0);
+                        let focused = manifold_event(scene, &hit, (cast - 1, chance), shadow, rng, rays);
+                        radiance += carried * focused;
+                        passing = Some(Passing::leave(hit.departure(), scatter.direction, bsdf_pdf, chance));
+                    }
                 }
                 LightSampling::Mixture => {
                     let goes_on = mixture_bounce(scene.lights(), &hit, start.time, lobe, &mut scatter, rng);

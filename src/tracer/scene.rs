@@ -23,6 +23,7 @@ use crate::tracer::math::real::Real;
 use crate::tracer::shading::background::Background;
 use crate::tracer::shading::material::Material;
 use crate::tracer::shading::texture::Textures;
+use crate::tracer::world::casters::Casters;
 use crate::tracer::world::lights::Lights;
 use crate::tracer::world::object::{Group, TREE_MIN_OBJECTS};
 use crate::tracer::world::object::{Object, Probe};
@@ -104,6 +105,8 @@ pub struct Scene {
     media: bool,
     /// The emitters paths can aim at (none in a first-book scene).
     lights: Lights,
+    /// The glass balls paths aim at the lights through (none without lights).
+    casters: Casters,
 }
 
 impl Scene {
@@ -143,6 +146,8 @@ impl Scene {
         if !first_book {
             let objects: Vec<Object> = spheres.into_iter().map(Object::Sphere).chain(objects).collect();
             let lights = Lights::new(&objects, &materials);
+            let casters =
+                if lights.is_empty() { Casters::default() } else { Casters::new(&objects, &materials) };
             let objects = Group::new(objects);
             let (motion, media) = objects.needs();
             let accel = if objects.has_tree() { Accel::Wide } else { Accel::Flat };
@@ -161,6 +166,7 @@ impl Scene {
                 motion,
                 media,
                 lights,
+                casters,
             };
         }
         let accel = match spheres.len() {
@@ -183,6 +189,7 @@ impl Scene {
             motion: false,
             media: false,
             lights: Lights::default(),
+            casters: Casters::default(),
         };
         scene.with_accel(accel)
     }
@@ -294,6 +301,11 @@ impl Scene {
     /// The emitters paths can aim at.
     pub fn lights(&self) -> &Lights {
         &self.lights
+    }
+
+    /// The glass balls paths aim at the lights through (`--light-sampling mis`).
+    pub fn casters(&self) -> &Casters {
+        &self.casters
     }
 
     /// How hits are found.

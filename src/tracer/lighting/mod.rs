@@ -11,6 +11,9 @@
 //!   bounce as well; each of the two ways of finding a light is weighted by the power
 //!   heuristic ([`power_heuristic`]) against the other's density, so a light found both ways
 //!   is counted once, and never with more noise than the better of the two (Veach 1997).
+//!   In a scene with glass balls, a diffuse hit also aims at a light *through* a ball
+//!   ([`manifold`]: manifold next-event estimation, solved in [`passage`]), weighed the same
+//!   way against the bounce that crosses the ball and meets the light.
 //!
 //! Invariant: a light's point reached by a shadow ray and the same point met by a bounce are
 //! weighed by the same density ([`Lights::pdf_of_point`]), and a path's last ray gets no
@@ -18,6 +21,9 @@
 //! estimate the same image at every `max_depth`.
 //!
 //! [`Lights::pdf_of_point`]: crate::tracer::world::lights::Lights::pdf_of_point
+
+pub mod manifold;
+pub mod passage;
 
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::math::real::{Real, Vec3};
@@ -44,7 +50,9 @@ pub enum LightSampling {
     /// weighted by the mixture's density (the third book's).
     Mixture,
     /// A shadow ray to a light at every diffuse hit, plus the material's bounce, each
-    /// weighted by the power heuristic (multiple importance sampling, as pbrt and Mitsuba).
+    /// weighted by the power heuristic (multiple importance sampling, as pbrt and Mitsuba);
+    /// with glass balls, a light sample through a ball as well (manifold next-event
+    /// estimation, as Cycles' shadow caustics).
     #[default]
     Mis,
     /// Bidirectional: a path from a light as well, joined to the camera's path at every pair

@@ -55,6 +55,13 @@ pub trait SampleRng: Rng {
     fn light(&mut self, bounce: u32) {
         let _ = bounce;
     }
+
+    /// The next numbers (up to four: a glass ball, a light, a point on it) aim bounce
+    /// `bounce`'s hit at a light through a glass ball (`lighting/manifold.rs`). Until the next
+    /// [`SampleRng::bounce`].
+    fn caustic(&mut self, bounce: u32) {
+        let _ = bounce;
+    }
 }
 
 impl SampleRng for SmallRng {}

@@ -250,6 +250,11 @@ const NO_PAIR: u32 = u32::MAX;
 /// pair of sets (about 100 instructions), paid only in scenes with lights.
 const LIGHT_SETS: u32 = 1 << 16;
 
+/// The first dimension set of the samples aimed at a light through a glass ball: bounce `b`
+/// takes set `CAUSTIC_SETS + b`, as far from the light samples' sets as those are from the
+/// bounces'.
+const CAUSTIC_SETS: u32 = 1 << 17;
+
 impl SampleRng for SobolStream<'_> {
     fn bounce(&mut self, bounce: u32) {
         let first = 2 * (bounce % 2) as usize;
@@ -258,6 +263,10 @@ impl SampleRng for SobolStream<'_> {
 
     fn light(&mut self, bounce: u32) {
         self.use_dimensions(LIGHT_SETS + bounce, 0..4);
+    }
+
+    fn caustic(&mut self, bounce: u32) {
+        self.use_dimensions(CAUSTIC_SETS + bounce, 0..4);
     }
 }
 

@@ -1,0 +1,201 @@
+//! **Manifold next-event estimation** (Hanika, Droske and Fascione 2015; Cycles' "shadow
+//! caustics"): at a diffuse hit under `mis`, a second light sample aimed *through* a glass
+//! ball. A shadow ray cannot reach a light through glass, so without this the bright spot a
+//! ball focuses on the floor is found only by bounces that happen to cross the ball and then
+//! meet the small lamp: fireflies for thousands of samples (`results/caustics.md`).
+//!
+//! [`manifold_event`] draws a caster and a point on a light by area (as a light path starts,
+//! `world/emission.rs`), solves for the passage that joins the hit to that point
+//! (`passage.rs`), and checks the three straight pieces with shadow rays. Its density is
+//! the point's, per unit area; a bounce that found the same path has density
+//! [`bounce_density`] there, and each is weighted by the power heuristic against the other.
+//! [`Passing`] follows a bounce on its way, so that a light it meets after crossing a caster
+//! gets that weight.
+//!
+//! A solve costs about as much as a few dozen passages through the ball, and a path meets
+//! dozens of diffuse hits in a closed room, most of them carrying little light: so a hit takes
+//! a manifold sample with the chance `min(1, 2 × the path's throughput after it)` (every hit
+//! of a path's first bounces, fewer later), and the sample is divided by that chance and its
+//! density multiplied by it (what that trades, measured: `results/mnee.md`).
+//!
+//! Invariant: a path is weighed against the solve only if the solve, run from the same two
+//! points, finds that very passage; otherwise the bounce alone could make it and it keeps
+//! weight 1. So the weights of every path sum to 1 even where the solve misses passages, and
+//! the estimate stays unbiased: the solve decides only how much noise is left.
+
+use crate::tracer::geometry::hit::Hit;
+use crate::tracer::lighting::passage::{bounce_density, solve};
+use crate::tracer::lighting::{PI, power_heuristic};
+use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::sampling::sampler::SampleRng;
+use crate::tracer::sampling::warp::uniform;
+use crate::tracer::scene::Scene;
+use crate::tracer::world::casters::{Ball, Passage};
+use crate::tracer::world::emission::Emission;
+use crate::tracer::world::object::Probe;
+
+/// Rays a manifold sample spends beyond a shadow ray's one: the path from the hit to a light
+/// through a ball is three straight pieces, so it needs three rays of a path's budget.
+pub const RAYS: u32 = 3;
+
+/// Light arriving at a diffuse `hit` through one of the scene's casters, per unit albedo (as
+/// [`super::next_event`]'s), taken with probability `chance` (a coin, the light sample's
+/// last number) and divided by it; then four draws in bounce `bounce`'s own dimensions (the
+/// caster, the light, a point on it). Counts its shadow rays in `rays`.
+pub fn manifold_event<R: SampleRng + ?Sized>(
+    scene: &Scene,
+    hit: &Hit,
+    (bounce, chance): (u32, Real),
+    probe: Probe,
+    rng: &mut R,
+    rays: &mut u64,
+) -> Vec3 {
+    // The coin is the light sample's last number; the rest have their own dimensions.
+    if uniform(rng) >= chance {
+        return Vec3::ZERO;
+    }
+    rng.caustic(bounce);
+    let casters = scene.casters();
+    let pick = (uniform(rng) * casters.len() as Real) as usize;
+    let ball = casters.ball(pick.min(casters.len() - 1));
+    let Some(light) = scene.lights().sample_emission(probe.time, rng) else { return Vec3::ZERO };
+    let chosen = chance * light.pdf / casters.len() as Real;
+    let mut gathered = 0.0;
+    solve(ball, hit.departure(), light.point, |passage| {
+        gathered += through(scene, hit, (ball, &passage), &light, chosen, probe, rays);
+    });
+    light.emitted * (gathered / chosen)
+}
+
+/// One passage's share of [`manifold_event`]'s estimate, per unit emission and before the
+/// division by the light point's density `chosen`: the bounce's density there, weighted by
+/// the power heuristic, if the passage leaves from above the hit, reaches the light's front,
+/// and its three straight pieces are clear.
+fn through(
+    scene: &Scene,
+    hit: &Hit,
+    (ball, passage): (&Ball, &Passage),
+    light: &Emission,
+    chosen: Real,
+    probe: Probe,
+    rays: &mut u64,
+) -> Real {
+    let from = hit.departure();
+    let dir = (passage.entry - from).normalize();
+    let cosine = dir.dot(hit.normal);
+    if cosine <= 0.0 || (light.point - passage.exit).dot(light.normal) >= 0.0 {
+        return 0.0;
+    }
+    let bounce = bounce_density(ball, from, dir, cosine / PI, light.point, light.normal);
+    if bounce <= 0.0 {
+        return 0.0;
+    }
+    // The three pieces, each up to its end less a thousandth (the ball's own surface ends the
+    // first two, the light the third); each a medium's own numbers.
+    let offset = ball.sphere.spawn_offset();
+    let center = ball.sphere.center;
+    let pieces = [
+        (hit.spawn(dir), passage.entry - from),
+        (
+            Ray {
+                origin: passage.entry + offset * (center - passage.entry).normalize(),
+                dir: passage.inside,
+            },
+            passage.exit - passage.entry,
+        ),
+        (
+            Ray { origin: passage.exit + offset * (passage.exit - center).normalize(), dir: passage.out },
+            light.point - passage.exit,
+        ),
+    ];
+    for (key, (ray, span)) in (1u64..).zip(pieces) {
+        *rays += 1;
+        let own = Probe { medium_seed: probe.medium_seed ^ key.wrapping_mul(PIECE_KEY), ..probe };
+        if scene.occluded(&ray, 0.999 * span.length(), &own) {
+            return 0.0;
+        }
+    }
+    // The bounce's density is its estimate's integrand over the light's emission: the
+    // cosine over π, the passage's chance T, and the spread 1/J (the module's opening).
+    bounce * power_heuristic(chosen, bounce)
+}
+
+/// Keys the media numbers of a manifold sample's three pieces apart.
+const PIECE_KEY: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// How far a bounce from a diffuse hit has come on its way through a caster.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stage {
+    /// It left the diffuse hit.
+    Left,
+    /// It refracted into caster `k`.
+    Entered(usize),
+    /// It refracted out of caster `k` again: a light met next is a manifold sample's too.
+    Crossed(usize),
+}
+
+/// A bounce from a diffuse hit (where a manifold sample was taken) followed through its next
+/// hits while they are the passage through a caster that [`manifold_event`] would solve for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Passing {
+    /// The diffuse hit's departure point.
+    from: Vec3,
+    /// The bounce's unit direction.
+    dir: Vec3,
+    /// Its density per unit solid angle.
+    pdf: Real,
+    /// The chance that a manifold sample was taken at the diffuse hit.
+    chance: Real,
+    stage: Stage,
+}
+
+impl Passing {
+    /// A bounce leaving `from` along `dir`, drawn with density `pdf`.
+    pub fn leave(from: Vec3, dir: Vec3, pdf: Real, chance: Real) -> Passing {
+        Passing { from, dir, pdf, chance, stage: Stage::Left }
+    }
+
+    /// The bounce after its next `hit`, where it scattered into `out`: still on its way if it
+    /// refracted into a caster, or out of the one it entered.
+    pub fn next(self, scene: &Scene, hit: &Hit, out: Vec3) -> Option<Passing> {
+        let casters = scene.casters();
+        // Refracted: `hit.normal` faces the arriving ray, so the ray went on through.
+        let refracted = out.dot(hit.normal) < 0.0;
+        let stage = match self.stage {
+            Stage::Left if refracted && hit.front_face => {
+                Stage::Entered(casters.holding(hit.point, hit.material)?)
+            }
+            Stage::Entered(k) if refracted && !hit.front_face => {
+                let ball = casters.ball(k);
+                (ball.sphere.material == hit.material && ball.holds(hit.point))
+                    .then_some(Stage::Crossed(k))?
+            }
+            _ => return None,
+        };
+        Some(Passing { stage, ..self })
+    }
+
+    /// The weight of the light `emitted` at `hit`, met next: against a manifold sample's
+    /// density if the solve finds this very passage, else 1.
+    pub fn weight(&self, scene: &Scene, hit: &Hit, emitted: Vec3) -> Real {
+        let Stage::Crossed(k) = self.stage else { return 1.0 };
+        let casters = scene.casters();
+        let ball = casters.ball(k);
+        let Some(taken) = ball.pass(self.from, self.dir) else { return 1.0 };
+        let mut found = false;
+        solve(ball, self.from, hit.point, |passage| {
+            found |= (passage.entry - taken.entry).length() <= 1e-3 * ball.sphere.radius;
+        });
+        if !found {
+            return 1.0;
+        }
+        let bounce = bounce_density(ball, self.from, self.dir, self.pdf, hit.point, hit.normal);
+        if bounce <= 0.0 {
+            // The manifold sample gives such a path nothing either.
+            return 1.0;
+        }
+        let chosen = self.chance * scene.lights().origin_pdf(emitted) / casters.len() as Real;
+        power_heuristic(bounce, chosen)
+    }
+}

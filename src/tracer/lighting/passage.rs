@@ -1,0 +1,256 @@
+//! Joining two points through a glass ball: the passage from a diffuse point `x` that enters
+//! the ball, crosses it and leaves towards a point `y` on a light ([`solve`]), and the density
+//! with which a bounce from `x` would have found that same path ([`bounce_density`]).
+//!
+//! The solve is a manifold walk (Hanika et al. 2015) made one-dimensional by the ball's
+//! symmetry: a ray's passage stays in the plane of its start, its direction and the ball's
+//! centre, so a path from `x` to `y` lies in the plane through `x`, `y` and the centre, and is
+//! fixed by one number, the angle at which it enters. Several angles can join the same two
+//! points (two or three beside cornell's ball, where the caustic folds), so the solve tries
+//! angles evenly across the ball as `x` sees it, four at a time in SIMD lanes, and closes in
+//! on every one between two tries where the ray leaving passes from one side of `y` to the
+//! other (regula falsi). A cheap bound ends most solves first: the glass turns a ray by at
+//! most 96°, so `y` must lie within reach. The solve is deterministic: the same `x` and `y`
+//! give the same passages, which is how a bounce that found a passage by chance knows
+//! whether the solve would have found it too (it misses pairs closer than its step).
+//!
+//! The density: the bounce leaves `x` in direction `ω` with density `p(ω)` per unit solid
+//! angle and refracts twice with chance `T`, so it lands near `y` with density
+//! `p(ω)·T / J` per unit area, where `J = dA/dω` is how widely the ball spreads a cone of
+//! directions over the light's plane (small where it focuses), measured by forward
+//! differences as `bidir/chain.rs` measures its chains (here without casting rays: the
+//! passage has a closed form, [`Ball::pass`]).
+
+use crate::tracer::math::real::{Real, Real4, Vec3};
+use crate::tracer::world::casters::{Ball, Passage};
+
+/// The angle by which a direction is turned to measure the spread of its passage.
+const STEP: Real = 1e-3;
+
+/// The entry angles tried first, evenly across those the start point sees: a passage is
+/// found between two neighbours where the ray leaving passes from one side of the target to
+/// the other. Two passages closer than a step are both missed (a bounce still finds them).
+const TRIES: usize = 32;
+
+/// The most steps that close in on one passage.
+const STEPS: u32 = 24;
+
+/// How closely (radians) the ray that leaves must point at its target to count as found.
+const AIM: Real = 1e-5;
+
+/// Calls `each` with every passage the solve finds from `from` through `ball` that leaves
+/// straight towards `to` (none if either point is inside the ball, or they lie in a line
+/// with its centre).
+///
+/// ```
+/// use raypool::tracer::geometry::sphere::Sphere;
+/// use raypool::tracer::lighting::passage::solve;
+/// use raypool::tracer::math::real::Vec3;
+/// use raypool::tracer::world::casters::Ball;
+/// let ball = Ball::new(Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }, 1.5);
+/// let (from, to) = (Vec3::new(0.3, 0.0, 4.0), Vec3::new(-0.2, 0.5, -3.0));
+/// let mut found = Vec::new();
+/// solve(&ball, from, to, |passage| found.push(passage));
+/// assert_eq!(found.len(), 1);
+/// assert!((to - found[0].exit).normalize().dot(found[0].out) > 1.0 - 1e-6);
+/// ```
+pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
+    let (center, radius) = (ball.sphere.center, ball.sphere.radius);
+    let reach = from - center;
+    let distance = reach.length();
+    let target = to - center;
+    // The plane's axes: `e1` towards `from`, `e2` towards `to`'s side of it.
+    let e1 = reach / distance;
+    let Some(e2) = (target - target.dot(e1) * e1).try_normalize() else { return };
+    if distance <= radius || !within_reach(ball, reach, distance, target) {
+        return;
+    }
+    let plane = Plane { radius, distance, ior: ball.ior, target: (target.dot(e1), target.dot(e2)) };
+    // `from` sees the entry angles up to `limit = acos(r / d)` either way (the two tangents,
+    // where the glass would meet the ray edge-on, never pass): tried at `TRIES` angles from
+    // `-limit` up, four at a time, each turned from the one before by a rotation (so a solve
+    // takes one arc cosine, one sine and one cosine however many it tries).
+    let limit = (radius / distance).acos();
+    let step = 2.0 * limit / (TRIES - 1) as Real;
+    let angle = |k: usize| -limit + step * k as Real;
+    let turn = Turn::by(step);
+    let edge = radius / distance;
+    let mut lanes = [(-(1.0 - edge * edge).max(0.0).sqrt(), edge); 4];
+    for k in 1..4 {
+        lanes[k] = turn.apply(lanes[k - 1]);
+    }
+    let (mut sin, mut cos) = (Real4::from(lanes.map(|l| l.0)), Real4::from(lanes.map(|l| l.1)));
+    let four = turn.twice().twice();
+    let miss = |angle: Real| {
+        let (sin, cos) = angle.sin_cos();
+        let (across, along) = plane.sides(Real4::splat(cos), Real4::splat(sin));
+        (along.x > 0.0).then(|| across.x / along.x)
+    };
+    let mut before: Option<(usize, Real)> = None;
+    for block in 0..TRIES / 4 {
+        let (across, along) = plane.sides(cos, sin);
+        for lane in 0..4 {
+            // The side of the target the ray passes (no division: `along` is positive).
+            let now = (along[lane] > 0.0).then(|| (4 * block + lane, across[lane]));
+            if let (Some(low), Some(high)) = (before, now)
+                && low.1.signum() != high.1.signum()
+            {
+                let bracket = |(k, _): (usize, Real)| Some((angle(k), miss(angle(k))?));
+                let entry = |a: Real| center + radius * (a.cos() * e1 + a.sin() * e2);
+                let found =
+                    bracket(low).zip(bracket(high)).and_then(|(low, high)| close_in(&miss, low, high));
+                if let Some(passage) = found.and_then(|a| ball.pass_at(from, entry(a))) {
+                    each(passage);
+                }
+            }
+            before = now;
+        }
+        (sin, cos) = (sin * four.cos + cos * four.sin, cos * four.cos - sin * four.sin);
+    }
+}
+
+/// A rotation in the plane by an angle, as its sine and cosine.
+#[derive(Clone, Copy)]
+struct Turn {
+    sin: Real,
+    cos: Real,
+}
+
+impl Turn {
+    fn by(angle: Real) -> Turn {
+        let (sin, cos) = angle.sin_cos();
+        Turn { sin, cos }
+    }
+
+    /// The rotation by twice the angle.
+    fn twice(self) -> Turn {
+        Turn { sin: 2.0 * self.sin * self.cos, cos: self.cos * self.cos - self.sin * self.sin }
+    }
+
+    /// `(sin, cos)` of an angle turned by this one.
+    fn apply(self, (sin, cos): (Real, Real)) -> (Real, Real) {
+        (sin * self.cos + cos * self.sin, cos * self.cos - sin * self.sin)
+    }
+}
+
+/// Whether a passage from the start (at `reach` from the centre, `distance` away) to the
+/// target (at `target` from the centre) can exist: the glass turns a ray by at most
+/// [`Ball::turn_max`], the ray arrives within `asin(r / d)` of the way to the centre and
+/// leaves within `asin(r / |target|)` of the way from it, so the two ways cannot be further
+/// apart than the three angles together. Cheap, and most solves end here: at the ceiling,
+/// a lamp's light through a ball on the floor cannot arrive.
+fn within_reach(ball: &Ball, reach: Vec3, distance: Real, target: Vec3) -> bool {
+    let radius = ball.sphere.radius;
+    let far = target.length();
+    if far <= radius {
+        return false;
+    }
+    let apart = (-reach.dot(target) / (distance * far)).clamp(-1.0, 1.0).acos();
+    apart <= ball.turn_max + (radius / distance).asin() + (radius / far).asin()
+}
+
+/// The solve's plane, its coordinates centred on the ball: the start point at `(distance, 0)`,
+/// the target at `target`.
+struct Plane {
+    radius: Real,
+    distance: Real,
+    ior: Real,
+    target: (Real, Real),
+}
+
+impl Plane {
+    /// Where the rays entering at four points of the ball (at angles `(cos, sin)`) leave
+    /// towards, against the target: `(across, along)`, the cross and dot products of the ray
+    /// leaving with the way to the target, so it points at the target where `across` is 0 and
+    /// `along` positive; `along` is NaN where the start cannot see the point or the glass
+    /// reflects it whole. [`Ball::pass_at`]'s passage in two dimensions: the same two
+    /// refractions, the second written with the first's angles (a chord meets the sphere at
+    /// equal angles).
+    #[inline]
+    fn sides(&self, cos: Real4, sin: Real4) -> (Real4, Real4) {
+        let (eta, one) = (1.0 / self.ior, Real4::ONE);
+        let (ex, ey) = (cos * self.radius, sin * self.radius);
+        let fx = ex - Real4::splat(self.distance);
+        let length = (fx * fx + ey * ey).sqrt();
+        let (dx, dy) = (fx / length, ey / length);
+        let cos_in = -(dx * cos + dy * sin);
+        // NaN where the glass reflects it whole (a ball of index below 1).
+        let cos_inside = (one - (one - cos_in * cos_in) * (eta * eta)).sqrt();
+        let bend = cos_in * eta - cos_inside;
+        let (ix, iy) = (dx * eta + bend * cos, dy * eta + bend * sin);
+        let chord = (ex * ix + ey * iy) * -2.0;
+        let (xx, xy) = (ex + chord * ix, ey + chord * iy);
+        let (mx, my) = (xx / self.radius, xy / self.radius);
+        let ox = (ix - cos_inside * mx) * self.ior + cos_in * mx;
+        let oy = (iy - cos_inside * my) * self.ior + cos_in * my;
+        let (ax, ay) = (Real4::splat(self.target.0) - xx, Real4::splat(self.target.1) - xy);
+        let along = ox * ax + oy * ay;
+        let seen = cos_in.cmpgt(Real4::ZERO);
+        (ox * ay - oy * ax, Real4::select(seen, along, Real4::splat(Real::NAN)))
+    }
+}
+
+/// The passage between entry angles `low` and `high` (each with its signed miss, of opposite
+/// signs), by regula falsi with the Illinois rule (a side kept twice has its miss halved, so
+/// the bracket closes from both ends).
+fn close_in(
+    miss: &impl Fn(Real) -> Option<Real>,
+    mut low: (Real, Real),
+    mut high: (Real, Real),
+) -> Option<Real> {
+    if low.1.signum() == high.1.signum() {
+        return None;
+    }
+    let mut kept = 0i8;
+    for _ in 0..STEPS {
+        let angle = (low.0 * high.1 - high.0 * low.1) / (high.1 - low.1);
+        let off = miss(angle)?;
+        if off.abs() < AIM {
+            return Some(angle);
+        }
+        if off.signum() == low.1.signum() {
+            low = (angle, off);
+            high.1 *= if kept > 0 { 0.5 } else { 1.0 };
+            kept = kept.max(0) + 1;
+        } else {
+            high = (angle, off);
+            low.1 *= if kept < 0 { 0.5 } else { 1.0 };
+            kept = kept.min(0) - 1;
+        }
+    }
+    None
+}
+
+/// The density per unit area at `at` (a point of a light whose surface has unit normal
+/// `normal` there) of a bounce that leaves `from` in the unit direction `dir` with density
+/// `pdf` per unit solid angle, refracts into `ball` and out again: `pdf · T / J` (see the
+/// module's opening). 0 if the passage or its spread cannot be followed.
+///
+/// ```
+/// use raypool::tracer::geometry::sphere::Sphere;
+/// use raypool::tracer::lighting::passage::bounce_density;
+/// use raypool::tracer::math::real::Vec3;
+/// use raypool::tracer::world::casters::Ball;
+/// // A ball of index 1 bends nothing: the density is the plain `pdf · cos θ / d²`.
+/// let ball = Ball::new(Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }, 1.0);
+/// let (from, at) = (Vec3::new(0.0, 0.0, 3.0), Vec3::new(0.0, 0.0, -5.0));
+/// let density = bounce_density(&ball, from, Vec3::new(0.0, 0.0, -1.0), 1.0, at, Vec3::Z);
+/// assert!((density - 1.0 / 64.0).abs() < 1e-3 / 64.0);
+/// ```
+pub fn bounce_density(ball: &Ball, from: Vec3, dir: Vec3, pdf: Real, at: Vec3, normal: Vec3) -> Real {
+    let land = |dir: Vec3| {
+        let passage = ball.pass(from, dir)?;
+        let t = (at - passage.exit).dot(normal) / passage.out.dot(normal);
+        (t > 0.0 && t.is_finite()).then(|| (passage.exit + t * passage.out, passage.transmitted))
+    };
+    let (u, v) = dir.any_orthonormal_pair();
+    let turned = |a: Real, b: Real| land((dir + a * u + b * v).normalize());
+    let (Some((centre, transmitted)), Some((along_u, _)), Some((along_v, _))) =
+        (land(dir), turned(STEP, 0.0), turned(0.0, STEP))
+    else {
+        return 0.0;
+    };
+    let spread = (along_u - centre).cross(along_v - centre).length() / (STEP * STEP);
+    let density = pdf * transmitted / spread;
+    if density.is_finite() { density } else { 0.0 }
+}

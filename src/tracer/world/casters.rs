@@ -1,0 +1,159 @@
+//! Glass balls that cast caustics: the solid dielectric spheres of a scene with lights, through
+//! which manifold next-event estimation (`lighting/manifold.rs`) aims at the lights. A ball is
+//! the one specular shape whose passage has a closed form: a ray that enters it refracts once,
+//! crosses a chord and refracts once more on the way out ([`Ball::pass`]), and by symmetry
+//! the two refractions are at the same angle inside, so light that entered always leaves.
+//!
+//! Only balls the scene holds directly and that stand still are casters: a sphere inside an
+//! instance or a moving one is glass like any other, found by bounces alone. A hollow shell
+//! (negative radius) is not one either; a ball with a shell inside is, and the shell blocks
+//! its passages (the shadow rays through the ball see it), as it blocks a bounce's.
+//!
+//! Invariant: [`Casters::holding`] names the caster whose surface holds a point, so a bounce
+//! that entered and left a ball is recognised as the passage [`Ball::pass`] follows.
+
+use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::shading::material::{Material, refract, schlick};
+use crate::tracer::world::object::Object;
+
+/// A solid glass ball.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ball {
+    /// The sphere (positive radius), with its material's index.
+    pub sphere: Sphere,
+    /// The glass's refractive index relative to the air around it.
+    pub ior: Real,
+    /// The most the ball turns a ray that passes through it (radians): `2(π/2 − asin(1/n))`
+    /// at grazing entry for an index `n` above 1 (96° for glass of 1.5), `2(π/2 − asin n)`
+    /// below 1.
+    pub turn_max: Real,
+}
+
+/// A ray's way through a [`Ball`]: in at `entry`, out at `exit` along `out`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Passage {
+    /// Where it enters (on the side it came from).
+    pub entry: Vec3,
+    /// Its unit direction inside.
+    pub inside: Vec3,
+    /// Where it leaves.
+    pub exit: Vec3,
+    /// Its unit direction after leaving.
+    pub out: Vec3,
+    /// The chance that glass refracts at both points (Schlick's `(1 − R)` twice): the share
+    /// of the light that takes this way, and the chance a bounce takes it.
+    pub transmitted: Real,
+}
+
+impl Ball {
+    /// The ball of `sphere` (a positive radius) in glass of index `ior`.
+    pub fn new(sphere: Sphere, ior: Real) -> Ball {
+        let turn_max = 2.0 * (std::f64::consts::FRAC_PI_2 as Real - ior.min(1.0 / ior).asin());
+        Ball { sphere, ior, turn_max }
+    }
+
+    /// The passage of the ray from `from` (outside) along the unit `dir`, if it meets the
+    /// ball at an angle it can refract at.
+    ///
+    /// ```
+    /// use raypool::tracer::geometry::sphere::Sphere;
+    /// use raypool::tracer::math::real::Vec3;
+    /// use raypool::tracer::world::casters::Ball;
+    /// let ball = Ball::new(Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }, 1.5);
+    /// // Straight through the centre: in at z = 2 − 1, out at z = −1, undeflected.
+    /// let passage = ball.pass(Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 0.0, -1.0)).unwrap();
+    /// assert!((passage.exit - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-5);
+    /// assert!((passage.transmitted - 0.96 * 0.96).abs() < 1e-5);
+    /// ```
+    pub fn pass(&self, from: Vec3, dir: Vec3) -> Option<Passage> {
+        let f = from - self.sphere.center;
+        let b = f.dot(dir);
+        // The robust form (as `Sphere::intersect`): the centre's distance from the line.
+        let perp = f - b * dir;
+        let r2 = self.sphere.radius * self.sphere.radius;
+        let discriminant = r2 - perp.length_squared();
+        if f.length_squared() <= r2 || discriminant <= 0.0 || b >= 0.0 {
+            return None;
+        }
+        let t = -b - discriminant.sqrt();
+        self.pass_at(from, from + t * dir)
+    }
+
+    /// The passage of the ray from `from` that enters at `entry`, a point of the ball's
+    /// surface that `from` sees (the way [`Ball::pass`] ends, and how a solver tries points).
+    pub fn pass_at(&self, from: Vec3, entry: Vec3) -> Option<Passage> {
+        let (center, radius) = (self.sphere.center, self.sphere.radius);
+        let dir = (entry - from).try_normalize()?;
+        let normal = (entry - center) / radius;
+        let cos_in = -dir.dot(normal);
+        if cos_in <= 0.0 {
+            return None;
+        }
+        let inside = refract(dir, normal, 1.0 / self.ior)?;
+        // The chord: the second root of |entry + t·inside − centre| = radius.
+        let chord = -2.0 * (entry - center).dot(inside);
+        let exit = entry + chord * inside;
+        let exit_normal = (exit - center) / radius;
+        let cos_out = inside.dot(exit_normal);
+        let out = refract(inside, -exit_normal, self.ior)?;
+        let transmitted = (1.0 - schlick(cos_in, 1.0 / self.ior)) * (1.0 - schlick(cos_out, self.ior));
+        Some(Passage { entry, inside, exit, out, transmitted })
+    }
+
+    /// Whether `point` lies on the ball's surface (to a thousandth of its radius).
+    pub fn holds(&self, point: Vec3) -> bool {
+        ((point - self.sphere.center).length() - self.sphere.radius).abs() <= 1e-3 * self.sphere.radius
+    }
+}
+
+/// The scene's casters, in the scene's order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Casters {
+    balls: Vec<Ball>,
+}
+
+impl Casters {
+    /// The solid, still glass spheres among `objects` (not inside instances), their materials
+    /// in `materials`.
+    ///
+    /// ```
+    /// use raypool::tracer::geometry::sphere::Sphere;
+    /// use raypool::tracer::math::real::Vec3;
+    /// use raypool::tracer::shading::material::Material;
+    /// use raypool::tracer::world::{casters::Casters, object::Object};
+    /// let ball = |radius| Object::Sphere(Sphere { center: Vec3::ZERO, radius, material: 0 });
+    /// let casters = Casters::new(&[ball(1.0), ball(-0.9)], &[Material::Dielectric { ior: 1.5 }]);
+    /// assert_eq!(casters.len(), 1); // the bubble inside is not a caster
+    /// ```
+    pub fn new(objects: &[Object], materials: &[Material]) -> Casters {
+        let balls = objects.iter().filter_map(|object| match object {
+            Object::Sphere(sphere) if sphere.radius > 0.0 => match materials[sphere.material as usize] {
+                Material::Dielectric { ior } => Some(Ball::new(*sphere, ior)),
+                _ => None,
+            },
+            _ => None,
+        });
+        Casters { balls: balls.collect() }
+    }
+
+    /// How many.
+    pub fn len(&self) -> usize {
+        self.balls.len()
+    }
+
+    /// Whether there are none (then no path pays for anything of this).
+    pub fn is_empty(&self) -> bool {
+        self.balls.is_empty()
+    }
+
+    /// Caster `k`.
+    pub fn ball(&self, k: usize) -> &Ball {
+        &self.balls[k]
+    }
+
+    /// The first caster of `material` whose surface holds `point`.
+    pub fn holding(&self, point: Vec3, material: u32) -> Option<usize> {
+        self.balls.iter().position(|ball| ball.sphere.material == material && ball.holds(point))
+    }
+}
