@@ -42,7 +42,7 @@ fn the_solve_finds_the_passage_a_ray_through_the_ball_takes_and_only_true_passag
     // Rays from a floor beside a ball resting on it (cornell's geometry, scaled to 1), drawn
     // by the cosine law, through the ball to a ceiling 5 radii up: the solve from the ray's
     // start to where it lands must find that passage (it misses pairs closer than its step,
-    // near the caustic's folds: measured 91% found), and everything it finds must be a
+    // near the caustic's folds: measured 92% found with 24 tries), and everything it finds must be a
     // passage from the start that lands on the target.
     let ball = Ball::new(Sphere { center: Vec3::new(0.0, 1.0, 0.0), radius: 1.0, material: 0 }, 1.5);
     let mut rng = SmallRng::seed_from_u64(5);

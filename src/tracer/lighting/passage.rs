@@ -30,7 +30,8 @@ const STEP: Real = 1e-3;
 /// The entry angles tried first, evenly across those the start point sees: a passage is
 /// found between two neighbours where the ray leaving passes from one side of the target to
 /// the other. Two passages closer than a step are both missed (a bounce still finds them).
-const TRIES: usize = 32;
+const TRIES: usize = 24;
+const _: () = assert!(TRIES % 4 == 0 && TRIES <= 64, "tries come in fours and fit a u64's bits");
 
 /// The most steps that close in on one passage.
 const STEPS: u32 = 24;
@@ -65,7 +66,8 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
     if distance <= radius || !within_reach(ball, reach, distance, target) {
         return;
     }
-    let plane = Plane { radius, distance, ior: ball.ior, target: (target.dot(e1), target.dot(e2)) };
+    let target = (target.dot(e1), target.dot(e2));
+    let plane = Plane { radius, inverse_radius: 1.0 / radius, distance, ior: ball.ior, target };
     // `from` sees the entry angles up to `limit = acos(r / d)` either way (the two tangents,
     // where the glass would meet the ray edge-on, never pass): tried at `TRIES` angles from
     // `-limit` up, four at a time, each turned from the one before by a rotation (so a solve
@@ -86,26 +88,27 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
         let (across, along) = plane.sides(Real4::splat(cos), Real4::splat(sin));
         (along.x > 0.0).then(|| across.x / along.x)
     };
-    let mut before: Option<(usize, Real)> = None;
+    // Every try first (independent blocks of arithmetic, which the processor overlaps), as
+    // two bit sets: the tries whose ray leaves towards the target's side of the ball, and
+    // those that pass it on the negative side; then only the neighbours that change side.
+    let (mut seen, mut negative) = (0u64, 0u64);
     for block in 0..TRIES / 4 {
         let (across, along) = plane.sides(cos, sin);
-        for lane in 0..4 {
-            // The side of the target the ray passes (no division: `along` is positive).
-            let now = (along[lane] > 0.0).then(|| (4 * block + lane, across[lane]));
-            if let (Some(low), Some(high)) = (before, now)
-                && low.1.signum() != high.1.signum()
-            {
-                let bracket = |(k, _): (usize, Real)| Some((angle(k), miss(angle(k))?));
-                let entry = |a: Real| center + radius * (a.cos() * e1 + a.sin() * e2);
-                let found =
-                    bracket(low).zip(bracket(high)).and_then(|(low, high)| close_in(&miss, low, high));
-                if let Some(passage) = found.and_then(|a| ball.pass_at(from, entry(a))) {
-                    each(passage);
-                }
-            }
-            before = now;
-        }
+        seen |= u64::from(along.cmpgt(Real4::ZERO).bitmask()) << (4 * block);
+        negative |= u64::from(across.cmplt(Real4::ZERO).bitmask()) << (4 * block);
         (sin, cos) = (sin * four.cos + cos * four.sin, cos * four.cos - sin * four.sin);
+    }
+    // Bit k: tries k and k + 1 are both seen and on opposite sides.
+    let mut changes = seen & (seen >> 1) & (negative ^ (negative >> 1)) & ((1u64 << (TRIES - 1)) - 1);
+    while changes != 0 {
+        let k = changes.trailing_zeros() as usize;
+        changes &= changes - 1;
+        let bracket = |k: usize| Some((angle(k), miss(angle(k))?));
+        let entry = |a: Real| center + radius * (a.cos() * e1 + a.sin() * e2);
+        let found = bracket(k).zip(bracket(k + 1)).and_then(|(low, high)| close_in(&miss, low, high));
+        if let Some(passage) = found.and_then(|a| ball.pass_at(from, entry(a))) {
+            each(passage);
+        }
     }
 }
 
@@ -153,6 +156,7 @@ fn within_reach(ball: &Ball, reach: Vec3, distance: Real, target: Vec3) -> bool 
 /// the target at `target`.
 struct Plane {
     radius: Real,
+    inverse_radius: Real,
     distance: Real,
     ior: Real,
     target: (Real, Real),
@@ -171,8 +175,8 @@ impl Plane {
         let (eta, one) = (1.0 / self.ior, Real4::ONE);
         let (ex, ey) = (cos * self.radius, sin * self.radius);
         let fx = ex - Real4::splat(self.distance);
-        let length = (fx * fx + ey * ey).sqrt();
-        let (dx, dy) = (fx / length, ey / length);
+        let inverse = (fx * fx + ey * ey).sqrt().recip();
+        let (dx, dy) = (fx * inverse, ey * inverse);
         let cos_in = -(dx * cos + dy * sin);
         // NaN where the glass reflects it whole (a ball of index below 1).
         let cos_inside = (one - (one - cos_in * cos_in) * (eta * eta)).sqrt();
@@ -180,7 +184,7 @@ impl Plane {
         let (ix, iy) = (dx * eta + bend * cos, dy * eta + bend * sin);
         let chord = (ex * ix + ey * iy) * -2.0;
         let (xx, xy) = (ex + chord * ix, ey + chord * iy);
-        let (mx, my) = (xx / self.radius, xy / self.radius);
+        let (mx, my) = (xx * self.inverse_radius, xy * self.inverse_radius);
         let ox = (ix - cos_inside * mx) * self.ior + cos_in * mx;
         let oy = (iy - cos_inside * my) * self.ior + cos_in * my;
         let (ax, ay) = (Real4::splat(self.target.0) - xx, Real4::splat(self.target.1) - xy);
