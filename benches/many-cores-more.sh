@@ -29,14 +29,8 @@ work=$(mktemp -d)
 mkdir -p "$out"
 log=$out/log.txt
 
-step() { # step SECONDS NAME ARGS...: one raypool run, its output appended to the log
-    local limit=$1 name=$2
-    shift 2
-    echo "== $name: raypool $* (limit ${limit} s)" | tee -a "$log"
-    local start=$SECONDS
-    timeout "$limit" "$raypool" "$@" >>"$log" 2>&1
-    echo "== $name: exit $?, $((SECONDS - start)) s" | tee -a "$log"
-}
+# shellcheck source=benches/steps.sh
+source benches/steps.sh
 
 # Sizes: width and spp per simulate step, the paper table's spp, simulate's rounds.
 if [ "${MORE_SMOKE:-0}" = 1 ]; then

@@ -22,14 +22,8 @@ work=$(mktemp -d)
 mkdir -p "$out"
 log=$out/log.txt
 
-step() { # step SECONDS NAME ARGS...: one raypool run, its output appended to the log
-    local limit=$1 name=$2
-    shift 2
-    echo "== $name: raypool $* (limit ${limit} s)" | tee -a "$log"
-    local start=$SECONDS
-    timeout "$limit" "$raypool" "$@" >>"$log" 2>&1
-    echo "== $name: exit $?, $((SECONDS - start)) s" | tee -a "$log"
-}
+# shellcheck source=benches/steps.sh
+source benches/steps.sh
 
 { lscpu; echo "nproc $(nproc)"; date -u; echo "commit ${RAYPOOL_COMMIT:-$(git rev-parse --short HEAD 2>/dev/null)}"; } >"$work/machine.txt"
 cp "$work/machine.txt" "$out/machine.txt"
