@@ -5,32 +5,23 @@
 mod deadline;
 mod rooms;
 
-use std::sync::Arc;
-
 use deadline::{raypool, scratch, within};
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
 use raypool::files::image::Image;
 use raypool::scenes::builtin::builtin_scene;
 use raypool::scenes::format::SceneFile;
-use raypool::schedule::frame::Frame;
-use raypool::schedule::modes::{Rendered, Schedule, render};
-use raypool::schedule::random::{RngChoice, RngSource};
+use raypool::schedule::modes::Schedule;
 use raypool::tracer::camera::{Camera, CameraSettings};
 use raypool::tracer::lighting::LightSampling;
 use raypool::tracer::math::real::{Real, to_f64};
-use raypool::tracer::render::{RenderJob, RenderSettings};
+use raypool::tracer::render::RenderSettings;
 use raypool::tracer::sampling::sampler::Sampler;
 use raypool::tracer::sampling::warp::uniform;
 use raypool::tracer::scene::Scene;
-use rooms::{CAMERA, assert_within_five_errors, inward_cube, lit_room, mean_and_error, quadrant_sums};
-
-fn render_frame(scene: &Scene, settings: RenderSettings, schedule: Schedule, threads: usize) -> Rendered {
-    let rng = RngSource::new(&settings, RngChoice::PerSample);
-    let frame =
-        Arc::new(Frame::new(RenderJob::new(scene.clone(), settings), rng, threads, 8, Arc::new(|_| {})));
-    render(&frame, &schedule)
-}
+use rooms::{
+    CAMERA, assert_within_five_errors, inward_cube, lit_room, mean_and_error, quadrant_sums, render_frame,
+};
 
 fn builtin(name: &str) -> String {
     builtin_scene(name, 0).unwrap().to_toml()

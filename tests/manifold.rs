@@ -6,16 +6,12 @@
 mod deadline;
 mod rooms;
 
-use std::sync::Arc;
-
 use deadline::within;
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
 use raypool::scenes::builtin::builtin_scene;
 use raypool::scenes::format::SceneFile;
-use raypool::schedule::frame::Frame;
-use raypool::schedule::modes::{Rendered, Schedule, render};
-use raypool::schedule::random::{RngChoice, RngSource};
+use raypool::schedule::modes::Schedule;
 use raypool::tracer::geometry::sphere::Sphere;
 use raypool::tracer::lighting::LightSampling;
 use raypool::tracer::lighting::passage::solve;
@@ -27,7 +23,7 @@ use raypool::tracer::sampling::warp::{random_unit_vector, uniform};
 use raypool::tracer::scene::Scene;
 use raypool::tracer::tile::Tile;
 use raypool::tracer::world::casters::Ball;
-use rooms::{CAMERA, inward_cube};
+use rooms::{CAMERA, inward_cube, render_frame};
 
 fn parse(text: &str) -> Scene {
     SceneFile::parse(text, "test.toml").unwrap_or_else(|e| panic!("{e}")).to_scene()
@@ -150,13 +146,6 @@ fn an_emitting_furnace_with_a_glass_ball_stays_exact_in_the_mean() {
             "mean {mean} against {expected} (± {error})"
         );
     });
-}
-
-fn render_frame(scene: &Scene, settings: RenderSettings, schedule: Schedule, threads: usize) -> Rendered {
-    let rng = RngSource::new(&settings, RngChoice::PerSample);
-    let frame =
-        Arc::new(Frame::new(RenderJob::new(scene.clone(), settings), rng, threads, 8, Arc::new(|_| {})));
-    render(&frame, &schedule)
 }
 
 #[test]

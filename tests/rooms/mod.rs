@@ -1,6 +1,23 @@
-//! Small test scenes, and the quadrant statistics by which renders are compared, shared by the
-//! tests of the world (`world.rs`) and of bidirectional path tracing (`bidir.rs`).
+//! Small test scenes, the quadrant statistics by which renders are compared, and a whole
+//! frame rendered under a schedule, shared by the tests of the world (`world.rs`), of
+//! bidirectional path tracing (`bidir.rs`) and of manifold samples (`manifold.rs`).
 #![allow(dead_code)]
+
+use std::sync::Arc;
+
+use raypool::schedule::frame::Frame;
+use raypool::schedule::modes::{Rendered, Schedule, render};
+use raypool::schedule::random::{RngChoice, RngSource};
+use raypool::tracer::render::{RenderJob, RenderSettings};
+use raypool::tracer::scene::Scene;
+
+/// `scene` rendered whole by `schedule` on `threads` threads, per-sample streams.
+pub fn render_frame(scene: &Scene, settings: RenderSettings, schedule: Schedule, threads: usize) -> Rendered {
+    let rng = RngSource::new(&settings, RngChoice::PerSample);
+    let frame =
+        Arc::new(Frame::new(RenderJob::new(scene.clone(), settings), rng, threads, 8, Arc::new(|_| {})));
+    render(&frame, &schedule)
+}
 
 /// A camera at the origin looking down −z with a 60° view, its focus 1 away.
 pub const CAMERA: &str = r#"
