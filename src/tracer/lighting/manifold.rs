@@ -12,7 +12,8 @@
 //! [`Passing`] follows a bounce on its way, so that a light it meets after crossing a caster
 //! gets that weight.
 //!
-//! A solve tries 24 entry angles, and on `cornell` 98% of solves find no passage; a path meets
+//! A solve tries 24 entry angles, and on `cornell` 98% of solves found no passage (measured
+//! with 32 tries, before the 96° bound); a path meets
 //! many diffuse hits in a closed room, most of them carrying little light: so a hit takes
 //! a manifold sample with the chance `min(1, 2 × the path's throughput after it)` (every hit
 //! of a path's first bounces, fewer later), and the sample is divided by that chance and its

@@ -70,8 +70,8 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
     let plane = Plane { radius, inverse_radius: 1.0 / radius, distance, ior: ball.ior, target };
     // `from` sees the entry angles up to `limit = acos(r / d)` either way (the two tangents,
     // where the glass would meet the ray edge-on, never pass): tried at `TRIES` angles from
-    // `-limit` up, four at a time, each turned from the one before by a rotation (so a solve
-    // takes one arc cosine, one sine and one cosine however many it tries).
+    // `-limit` up, four at a time, each turned from the one before by a rotation (so the
+    // tries take one arc cosine, one sine and one cosine between them, however many).
     let limit = (radius / distance).acos();
     let step = 2.0 * limit / (TRIES - 1) as Real;
     let angle = |k: usize| -limit + step * k as Real;
