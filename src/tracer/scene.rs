@@ -146,8 +146,11 @@ impl Scene {
         if !first_book {
             let objects: Vec<Object> = spheres.into_iter().map(Object::Sphere).chain(objects).collect();
             let lights = Lights::new(&objects, &materials);
-            let casters =
-                if lights.is_empty() { Casters::default() } else { Casters::new(&objects, &materials) };
+            let casters = if lights.is_empty() {
+                Casters::default()
+            } else {
+                Casters::new(&objects, &materials, lights.bounds())
+            };
             let objects = Group::new(objects);
             let (motion, media) = objects.needs();
             let accel = if objects.has_tree() { Accel::Wide } else { Accel::Flat };

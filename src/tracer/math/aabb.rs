@@ -14,6 +14,13 @@ pub struct Aabb {
     pub max: Vec3,
 }
 
+impl Default for Aabb {
+    /// The empty box.
+    fn default() -> Aabb {
+        Aabb::EMPTY
+    }
+}
+
 impl Aabb {
     /// The empty box: the union's identity.
     pub const EMPTY: Aabb = Aabb { min: Vec3::splat(Real::INFINITY), max: Vec3::splat(Real::NEG_INFINITY) };

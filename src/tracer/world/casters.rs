@@ -13,6 +13,7 @@
 //! that entered and left a ball is recognised as the passage [`Ball::pass`] follows.
 
 use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::math::aabb::Aabb;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::shading::material::{Material, refract, schlick};
 use crate::tracer::world::object::Object;
@@ -24,10 +25,6 @@ pub struct Ball {
     pub sphere: Sphere,
     /// The glass's refractive index relative to the air around it.
     pub ior: Real,
-    /// The most the ball turns a ray that passes through it (radians): `2(π/2 − asin(1/n))`
-    /// at grazing entry for an index `n` above 1 (96° for glass of 1.5), `2(π/2 − asin n)`
-    /// below 1.
-    pub turn_max: Real,
 }
 
 /// A ray's way through a [`Ball`]: in at `entry`, out at `exit` along `out`.
@@ -49,8 +46,25 @@ pub struct Passage {
 impl Ball {
     /// The ball of `sphere` (a positive radius) in glass of index `ior`.
     pub fn new(sphere: Sphere, ior: Real) -> Ball {
-        let turn_max = 2.0 * (std::f64::consts::FRAC_PI_2 as Real - ior.min(1.0 / ior).asin());
-        Ball { sphere, ior, turn_max }
+        Ball { sphere, ior }
+    }
+
+    /// The angle (radians) by which the ball turns a ray that passes it at `impact` radii
+    /// from its centre: `2|asin s − asin(s/n)|` for `s = impact` and index `n`, twice the
+    /// bend of one refraction. It grows with the impact, up to 96° at grazing entry for glass
+    /// of 1.5; a ball of index below 1 lets through only impacts up to `n`, and past them
+    /// this is the most it turns.
+    ///
+    /// ```
+    /// use raypool::tracer::geometry::sphere::Sphere;
+    /// use raypool::tracer::world::casters::Ball;
+    /// let ball = Ball::new(Sphere { center: Default::default(), radius: 2.0, material: 0 }, 1.5);
+    /// assert_eq!(ball.turn(0.0), 0.0);
+    /// assert!((ball.turn(1.0).to_degrees() - 96.38).abs() < 0.01);
+    /// ```
+    pub fn turn(&self, impact: Real) -> Real {
+        let s = impact.clamp(0.0, 1.0).min(self.ior);
+        2.0 * (s.asin() - (s / self.ior).asin()).abs()
     }
 
     /// The passage of the ray from `from` (outside) along the unit `dir`, if it meets the
@@ -107,26 +121,28 @@ impl Ball {
     }
 }
 
-/// The scene's casters, in the scene's order.
+/// The scene's casters, in the scene's order, and a sphere around its lights.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Casters {
     balls: Vec<Ball>,
+    lamps: (Vec3, Real),
 }
 
 impl Casters {
     /// The solid, still glass spheres among `objects` (not inside instances), their materials
-    /// in `materials`.
+    /// in `materials`, casting the light of lights inside the box `lamps` (not empty).
     ///
     /// ```
     /// use raypool::tracer::geometry::sphere::Sphere;
-    /// use raypool::tracer::math::real::Vec3;
+    /// use raypool::tracer::math::{aabb::Aabb, real::Vec3};
     /// use raypool::tracer::shading::material::Material;
     /// use raypool::tracer::world::{casters::Casters, object::Object};
     /// let ball = |radius| Object::Sphere(Sphere { center: Vec3::ZERO, radius, material: 0 });
-    /// let casters = Casters::new(&[ball(1.0), ball(-0.9)], &[Material::Dielectric { ior: 1.5 }]);
+    /// let lamps = Aabb::EMPTY.grow(Vec3::new(-1.0, 5.0, -1.0)).grow(Vec3::new(1.0, 5.0, 1.0));
+    /// let casters = Casters::new(&[ball(1.0), ball(-0.9)], &[Material::Dielectric { ior: 1.5 }], lamps);
     /// assert_eq!(casters.len(), 1); // the bubble inside is not a caster
     /// ```
-    pub fn new(objects: &[Object], materials: &[Material]) -> Casters {
+    pub fn new(objects: &[Object], materials: &[Material], lamps: Aabb) -> Casters {
         let balls = objects.iter().filter_map(|object| match object {
             Object::Sphere(sphere) if sphere.radius > 0.0 => match materials[sphere.material as usize] {
                 Material::Dielectric { ior } => Some(Ball::new(*sphere, ior)),
@@ -134,7 +150,18 @@ impl Casters {
             },
             _ => None,
         });
-        Casters { balls: balls.collect() }
+        let middle = 0.5 * (lamps.min + lamps.max);
+        Casters { balls: balls.collect(), lamps: (middle, (lamps.max - middle).length()) }
+    }
+
+    /// Every caster.
+    pub fn iter(&self) -> impl Iterator<Item = &Ball> {
+        self.balls.iter()
+    }
+
+    /// A sphere around every point of the scene's lights: centre and radius.
+    pub fn lamps(&self) -> (Vec3, Real) {
+        self.lamps
     }
 
     /// How many.

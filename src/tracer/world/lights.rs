@@ -90,6 +90,8 @@ pub struct Lights {
     /// Whether some emitting mesh is shaded by normals from its file: a hit on it then tells
     /// the shading normal, not the face's ([`Lights::pdf_of_hit`] looks the face up).
     shaded: bool,
+    /// A box around every light.
+    bounds: Aabb,
     /// A four-wide tree over the lights' boxes, once there are enough of them: the mixture's
     /// density visits only the lights a direction can meet (an emitting mesh may hold
     /// thousands).
@@ -131,6 +133,7 @@ impl Lights {
         let spheres = spheres.map(|(k, _)| k).collect();
         let emit = found.iter().map(|l| l.2).collect();
         let apart = apart(&found);
+        let bounds = found.iter().fold(Aabb::EMPTY, |b, light| b.union(light.bounds()));
         Lights {
             shapes: found.into_iter().map(|l| l.0).collect(),
             chance,
@@ -140,8 +143,14 @@ impl Lights {
             spheres,
             apart,
             shaded,
+            bounds,
             tree,
         }
+    }
+
+    /// A box around every point of every light (at any time); empty without lights.
+    pub fn bounds(&self) -> Aabb {
+        self.bounds
     }
 
     /// Number of lights.
