@@ -6,8 +6,10 @@ the two `mis` binaries alternated seed by seed. Error: mean squared error per ch
 subtracted; also split between the pixels whose footprint sees the glass ball and the rest
 (as benches/bdpt_split.py). Time: each render's own summary line, median of the three seeds.
 *time to bsdf's error* = error x time / (bsdf's error x bsdf's time). Writes results/mnee.md.
+With --roulette, two more rows: `bsdf` (1,024 spp) and `mis` after (256 spp) with `--roulette`,
+to show what Russian roulette does to each side of the ratio.
 
-    benches/mnee.py --before OLD_BIN --after NEW_BIN [--out results/mnee.md]
+    benches/mnee.py --before OLD_BIN --after NEW_BIN [--out results/mnee.md] [--roulette]
 """
 import math, os, re, statistics, struct, subprocess, sys, tempfile
 from datetime import date
@@ -24,9 +26,14 @@ def read_pfm(path):
     return [v for y in range(h) for v in d[(h - 1 - y) * w * 3:(h - y) * w * 3]]  # top row first
 
 
-def render(binary, light, spp, seed, out):
+ROWS = [("bsdf", AFTER, "bsdf", 1024, []), ("mis before", BEFORE, "mis", 256, []), ("mis after", AFTER, "mis", 256, [])]
+if "--roulette" in sys.argv:
+    ROWS += [("bsdf --roulette", AFTER, "bsdf", 1024, ["--roulette"]), ("mis after --roulette", AFTER, "mis", 256, ["--roulette"])]
+
+
+def render(binary, light, spp, seed, out, extra=()):
     line = subprocess.run([binary, "render", "--scene", "cornell", "--width", str(W), "--spp", str(spp), "--seed",
-                           str(seed), "--light-sampling", light, "--threads", "2", "--out", out],
+                           str(seed), "--light-sampling", light, "--threads", "2", "--out", out, *extra],
                           capture_output=True, text=True, check=True).stderr
     return float(re.search(r": ([0-9.]+) s,", line).group(1))
 
@@ -59,9 +66,8 @@ ref = [(a + b) / 2 for a, b in zip(*halves)]
 noise = split(lambda k, ch: (halves[0][3 * k + ch] - halves[1][3 * k + ch]) ** 2 / 4)
 rows = {}
 for seed in SEEDS:
-    for name, binary, light, spp in (("bsdf", AFTER, "bsdf", 1024), ("mis before", BEFORE, "mis", 256),
-                                     ("mis after", AFTER, "mis", 256)):
-        t = render(binary, light, spp, seed, "%s/img.pfm" % tmp); img = read_pfm("%s/img.pfm" % tmp)
+    for name, binary, light, spp, extra in ROWS:
+        t = render(binary, light, spp, seed, "%s/img.pfm" % tmp, extra); img = read_pfm("%s/img.pfm" % tmp)
         e = split(lambda k, ch: (img[3 * k + ch] - ref[3 * k + ch]) ** 2)
         rows.setdefault(name, []).append((t, [x - n for x, n in zip(e, noise)]))
         print(name, seed, t, e, file=sys.stderr)
@@ -70,13 +76,13 @@ commit = subprocess.run(["git", "describe", "--always", "--dirty=+dirty"], captu
 md = ["| setting | spp | time (s) | MSE | from glass pixels | from the rest | time to bsdf's error (x bsdf's) |",
       "|---|---:|---:|---:|---:|---:|---:|"]
 stats = {}
-for name, spp in (("bsdf", 1024), ("mis before", 256), ("mis after", 256)):
+for name, _, _, spp, _ in ROWS:
     t = statistics.median(r[0] for r in rows[name])
     g = statistics.mean(r[1][0] for r in rows[name]); rest = statistics.mean(r[1][1] for r in rows[name])
     stats[name] = (t, g + rest)
     md.append("| %s | %d | %.3f | %.3e | %.2e | %.2e | %s |" % (name, spp, t, g + rest, g, rest, "%.3f"))
 base = stats["bsdf"][0] * stats["bsdf"][1]
-md[2:] = [line % (stats[n][0] * stats[n][1] / base) for line, n in zip(md[2:], ("bsdf", "mis before", "mis after"))]
+md[2:] = [line % (stats[row[0]][0] * stats[row[0]][1] / base) for line, row in zip(md[2:], ROWS)]
 head = ["Command: `benches/mnee.py --before %s --after %s` · nproc %d, %s, commit %s, %s" %
         (BEFORE, AFTER, os.cpu_count(), cpu, commit, date.today()), "",
         "cornell, 80 x 80, depth 50, Sobol, 2 threads; seeds %s, medians of their times, means of their errors; "
