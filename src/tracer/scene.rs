@@ -149,7 +149,7 @@ impl Scene {
             let casters = if lights.is_empty() {
                 Casters::default()
             } else {
-                Casters::new(&objects, &materials, lights.bounds())
+                Casters::new(&objects, &materials, lights.bounds)
             };
             let objects = Group::new(objects);
             let (motion, media) = objects.needs();

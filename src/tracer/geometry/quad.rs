@@ -64,6 +64,11 @@ impl Quad {
         self.normal
     }
 
+    /// Its area.
+    pub fn area(&self) -> Real {
+        self.u.cross(self.v).length()
+    }
+
     /// The distance to the hit in `(0, t_max)` and its `(α, β)`, if any.
     #[inline]
     pub fn intersect(&self, ray: &Ray, t_max: Real) -> Option<(Real, Real, Real)> {

@@ -7,14 +7,14 @@
 //! centre, so a path from `x` to `y` lies in the plane through `x`, `y` and the centre, and is
 //! fixed by one number, the angle at which it enters. Several angles can join the same two
 //! points (two or three beside cornell's ball, where the caustic folds), so the solve tries
-//! angles evenly across the ball as `x` sees it, four at a time in SIMD lanes, and closes in
-//! on every one between two tries where the ray leaving passes from one side of `y` to the
-//! other (regula falsi). A cheap bound ends most solves first ([`may_pass`] for a hit and
-//! every light at once, then `within_reach` for `x` and `y`): the ball turns a ray by at most
-//! [`Ball::turn`] at the outermost try, so `y` must lie within that reach. The solve is
-//! deterministic: the same `x` and `y`
-//! give the same passages, which is how a bounce that found a passage by chance knows
-//! whether the solve would have found it too (it misses pairs closer than its step).
+//! angles evenly across the ball as `x` sees it, four at a time in SIMD lanes, and closes in on
+//! every one between two tries where the ray leaving passes from one side of `y` to the other
+//! (regula falsi). A cheap bound ends most solves first ([`may_pass`], asked before a manifold
+//! sample, for a hit and every light at once; then `within_reach`, in the solve, for `x` and
+//! `y`): the ball turns a ray by at most [`Ball::turn`] at the outermost try, so `y` must lie
+//! within that reach. The solve is deterministic: the same `x` and `y` give the same passages,
+//! which is how a bounce that found a passage by chance knows whether the solve would have
+//! found it too (it misses pairs closer than its step).
 //!
 //! The density: the bounce leaves `x` in direction `ω` with density `p(ω)` per unit solid
 //! angle and refracts twice with chance `T`, so it lands near `y` with density
@@ -146,7 +146,7 @@ impl Turn {
 }
 
 /// Whether [`solve`] can find a passage through `ball` from `from` to some point of the
-/// sphere `lamps` (centre and radius) at all: [`within_reach`] for the whole sphere at once,
+/// sphere `lamps` (centre and radius) at all: `within_reach` for the whole sphere at once,
 /// with the nearest of its distances from the ball's centre and the smallest of its angles
 /// from straight on. A hit it rules out needs no manifold sample (its solves would all end
 /// at the bound); on `cornell`, 76% of the hits that take a manifold sample.

@@ -12,7 +12,7 @@ use rand::Rng;
 
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::warp::{random_unit_vector, uniform};
-use crate::tracer::world::lights::{Lights, Shape, luminance, quad_area};
+use crate::tracer::world::lights::{Lights, Shape, luminance};
 
 /// A point drawn on a light, where a light path starts.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -80,7 +80,7 @@ pub fn emitted_direction<R: Rng + ?Sized>(normal: Vec3, rng: &mut R) -> Vec3 {
 /// far from the origin as safely as one near it; 0 for the other shapes.
 fn quad_size(shape: &Shape) -> Real {
     match shape {
-        Shape::Quad(quad) => quad_area(quad).sqrt(),
+        Shape::Quad(quad) => quad.area().sqrt(),
         _ => 0.0,
     }
 }

@@ -90,8 +90,8 @@ pub struct Lights {
     /// Whether some emitting mesh is shaded by normals from its file: a hit on it then tells
     /// the shading normal, not the face's ([`Lights::pdf_of_hit`] looks the face up).
     shaded: bool,
-    /// A box around every light.
-    bounds: Aabb,
+    /// A box around every point of every light (at any time); empty without lights.
+    pub(crate) bounds: Aabb,
     /// A four-wide tree over the lights' boxes, once there are enough of them: the mixture's
     /// density visits only the lights a direction can meet (an emitting mesh may hold
     /// thousands).
@@ -148,11 +148,6 @@ impl Lights {
         }
     }
 
-    /// A box around every point of every light (at any time); empty without lights.
-    pub fn bounds(&self) -> Aabb {
-        self.bounds
-    }
-
     /// Number of lights.
     pub fn len(&self) -> usize {
         self.shapes.len()
@@ -184,9 +179,7 @@ impl Lights {
             (distance > 0.0 && pdf > 0.0 && pdf.is_finite()).then_some(sample)
         };
         match &self.shapes[k] {
-            Shape::Quad(quad) => {
-                toward_area(quad.q + a * quad.u + b * quad.v, quad.normal(), quad_area(quad))
-            }
+            Shape::Quad(quad) => toward_area(quad.q + a * quad.u + b * quad.v, quad.normal(), quad.area()),
             Shape::Triangle(p, normal, area) => {
                 // Uniform by area: the square root spreads the first number over the
                 // triangle's height (pbrt's `SampleUniformTriangle`, in its older form).
@@ -235,7 +228,7 @@ impl Lights {
         match &self.shapes[k] {
             Shape::Quad(quad) => quad
                 .intersect(ray, Real::INFINITY)
-                .map_or(0.0, |(t, _, _)| by_area(t, quad.normal(), quad_area(quad))),
+                .map_or(0.0, |(t, _, _)| by_area(t, quad.normal(), quad.area())),
             Shape::Triangle(p, normal, area) => triangle::intersect(*p, ray, Real::INFINITY)
                 .map_or(0.0, |found| by_area(found.t, *normal, *area)),
             Shape::Sphere(moving) => Cone::of(&moving.at(time), ray.origin)
@@ -385,7 +378,7 @@ fn collect(
                 let placed =
                     Quad::new(place.point(quad.q), place.vector(quad.u), place.vector(quad.v), quad.material);
                 if let Some(placed) = placed {
-                    let power = glow(quad.material) * quad_area(&placed);
+                    let power = glow(quad.material) * placed.area();
                     found.push((Shape::Quad(placed), power, emit(quad.material)));
                 }
             }
@@ -446,11 +439,6 @@ impl Bounded for (Shape, Real, Vec3) {
         let b = self.bounds();
         0.5 * (b.min + b.max)
     }
-}
-
-/// A quad's area.
-pub(super) fn quad_area(quad: &Quad) -> Real {
-    quad.u.cross(quad.v).length()
 }
 
 /// The luminance of a linear RGB colour (Rec. 709 weights).
