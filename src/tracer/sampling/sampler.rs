@@ -56,11 +56,11 @@ pub trait SampleRng: Rng {
         let _ = bounce;
     }
 
-    /// The next numbers (up to four: a glass ball, a light, a point on it) aim bounce
-    /// `bounce`'s hit at a light through a glass ball (`lighting/manifold.rs`). Until the next
-    /// [`SampleRng::bounce`].
-    fn caustic(&mut self, bounce: u32) {
-        let _ = bounce;
+    /// The next numbers (up to four: a glass ball, a light, a point on it) aim a hit at a
+    /// light through a glass ball: the path's aim number `aim` (`lighting/manifold.rs` gives
+    /// each bounce `POINTS` of them). Until the next [`SampleRng::bounce`].
+    fn caustic(&mut self, aim: u32) {
+        let _ = aim;
     }
 }
 

@@ -250,8 +250,8 @@ const NO_PAIR: u32 = u32::MAX;
 /// pair of sets (about 100 instructions), paid only in scenes with lights.
 const LIGHT_SETS: u32 = 1 << 16;
 
-/// The first dimension set of the samples aimed at a light through a glass ball: bounce `b`
-/// takes set `CAUSTIC_SETS + b`, as far from the light samples' sets as those are from the
+/// The first dimension set of the samples aimed at a light through a glass ball: a path's aim
+/// `a` takes set `CAUSTIC_SETS + a`, as far from the light samples' sets as those are from the
 /// bounces'.
 const CAUSTIC_SETS: u32 = 1 << 17;
 
@@ -265,8 +265,8 @@ impl SampleRng for SobolStream<'_> {
         self.use_dimensions(LIGHT_SETS + bounce, 0..4);
     }
 
-    fn caustic(&mut self, bounce: u32) {
-        self.use_dimensions(CAUSTIC_SETS + bounce, 0..4);
+    fn caustic(&mut self, aim: u32) {
+        self.use_dimensions(CAUSTIC_SETS + aim, 0..4);
     }
 }
 
