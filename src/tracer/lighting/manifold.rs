@@ -106,7 +106,7 @@ fn aimed_density(chance: Real, pdf: Real, casters: usize) -> Real {
 /// that crosses a ball to a light keeps weight 1, as [`Passing::weight`] would give it there.
 fn may_focus(scene: &Scene, from: Vec3) -> bool {
     let casters = scene.casters();
-    casters.iter().any(|ball| may_pass(ball, from, casters.lamps()))
+    (0..casters.len()).any(|k| casters.may_light(k, from) && may_pass(casters.ball(k), from, casters.lamps()))
 }
 
 /// One passage's share of [`manifold_event`]'s estimate, per unit emission and before the

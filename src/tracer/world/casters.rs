@@ -18,6 +18,9 @@ use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::shading::material::{Material, refract, schlick};
 use crate::tracer::world::object::Object;
 
+/// π in the tracer's precision.
+const PI: Real = std::f64::consts::PI as Real;
+
 /// A solid glass ball.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ball {
@@ -115,6 +118,33 @@ impl Ball {
         Some(Passage { entry, inside, exit, out, transmitted })
     }
 
+    /// The widest angle, seen from the centre, between the way in from a start outside and the
+    /// way out to a point of the sphere `lamps` (centre and radius), at which a passage can
+    /// join them: a ray arrives at most 90° off the way to the centre, the ball turns it by at
+    /// most [`Ball::turn`]`(1)` back across it, so it leaves at most the larger of the two off;
+    /// it leaves on a line at most `r` from the centre, so a point `f` away is at most
+    /// `asin(r / f)` off that line, and the lamps' points are at most `asin(ρ / a)` off their
+    /// centre, `a` away with radius `ρ`. π where the lamps come within the ball's radius.
+    ///
+    /// ```
+    /// use raypool::tracer::geometry::sphere::Sphere;
+    /// use raypool::tracer::math::real::Vec3;
+    /// use raypool::tracer::world::casters::Ball;
+    /// let ball = Ball::new(Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }, 1.5);
+    /// // A point lamp far away: the turn at the rim alone, 96°.
+    /// assert!((ball.widest((Vec3::new(0.0, 1e4, 0.0), 0.0)).to_degrees() - 96.4).abs() < 0.1);
+    /// ```
+    pub fn widest(&self, (lamp, spread): (Vec3, Real)) -> Real {
+        let away = (lamp - self.sphere.center).length();
+        let nearest = away - spread;
+        if nearest <= self.sphere.radius {
+            return PI;
+        }
+        let off =
+            self.turn(1.0).max(PI / 2.0) + (self.sphere.radius / nearest).asin() + (spread / away).asin();
+        off.min(PI)
+    }
+
     /// Whether `point` lies on the ball's surface (to a thousandth of its radius).
     pub fn holds(&self, point: Vec3) -> bool {
         ((point - self.sphere.center).length() - self.sphere.radius).abs() <= 1e-3 * self.sphere.radius
@@ -126,6 +156,8 @@ impl Ball {
 pub struct Casters {
     balls: Vec<Ball>,
     lamps: (Vec3, Real),
+    /// Per ball, the cosine of the widest angle that light from the lamps can pass ([`Casters::may_light`]).
+    widest: Vec<Real>,
 }
 
 impl Casters {
@@ -151,7 +183,18 @@ impl Casters {
             _ => None,
         });
         let middle = 0.5 * (lamps.min + lamps.max);
-        Casters { balls: balls.collect(), lamps: (middle, (lamps.max - middle).length()) }
+        let (balls, lamps): (Vec<Ball>, _) = (balls.collect(), (middle, (lamps.max - middle).length()));
+        let widest = balls.iter().map(|ball| ball.widest(lamps).cos()).collect();
+        Casters { balls, lamps, widest }
+    }
+
+    /// Whether light from the lamps may pass through ball `k` to `from` at all, by a test of
+    /// one product against [`Ball::widest`]: the loose first of two (`lighting/passage.rs`'s
+    /// `may_pass` is the tight one), which on `cornell` rules out the ceiling and high walls.
+    pub fn may_light(&self, k: usize, from: Vec3) -> bool {
+        let (center, (lamp, _)) = (self.balls[k].sphere.center, self.lamps);
+        let (inward, outward) = (center - from, lamp - center);
+        inward.dot(outward) >= self.widest[k] * (inward.length_squared() * outward.length_squared()).sqrt()
     }
 
     /// Every caster.
