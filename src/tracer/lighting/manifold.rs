@@ -43,8 +43,8 @@ pub const RAYS: u32 = 3;
 
 /// Light points a manifold sample aims at, each with its own caster and Sobol set, their
 /// estimates averaged. Once `may_focus` had made the samples that find nothing cheap, two
-/// points gave 10.6% less error for 7–8% more time on `cornell`; four, 19% less for 21% more
-/// (`results/mnee.md`).
+/// points gave 12.4% less error for 6–12% more time on `cornell`; four (the last three
+/// drawing independent numbers), 19% less for 21% more (`results/mnee.md`).
 pub const POINTS: u32 = 2;
 
 /// Light arriving at a diffuse `hit` through one of the scene's casters, per unit albedo (as

@@ -197,11 +197,6 @@ impl Casters {
         inward.dot(outward) >= self.widest[k] * (inward.length_squared() * outward.length_squared()).sqrt()
     }
 
-    /// Every caster.
-    pub fn iter(&self) -> impl Iterator<Item = &Ball> {
-        self.balls.iter()
-    }
-
     /// A sphere around every point of the scene's lights: centre and radius.
     pub fn lamps(&self) -> (Vec3, Real) {
         self.lamps
