@@ -408,7 +408,8 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
                         let chance = (2.0 * carried.max_element()).min(1.0);
                         let focused = manifold_event(scene, &hit, (cast - 1, chance), shadow, rng, rays);
                         radiance += carried * focused;
-                        passing = Some(Passing::leave(hit.departure(), scatter.direction, bsdf_pdf, chance));
+                        let taken = (cast - 1, chance);
+                        passing = Some(Passing::leave(hit.departure(), scatter.direction, bsdf_pdf, taken));
                     }
                 }
                 LightSampling::Mixture => {

@@ -41,17 +41,21 @@ use crate::tracer::world::object::Probe;
 /// through a ball is three straight pieces, so it needs three rays of a path's budget.
 pub const RAYS: u32 = 3;
 
-/// Light points a manifold sample aims at, each with its own caster and Sobol set, their
-/// estimates averaged. Once `may_focus` had made the samples that find nothing cheap, two
-/// points gave 12.4% less error for 6–12% more time on `cornell`; four (the last three
-/// drawing independent numbers), 19% less for 21% more (`results/mnee.md`).
-pub const POINTS: u32 = 2;
+/// Light points a manifold sample at bounce `bounce` aims at, each with its own caster and
+/// Sobol set, their estimates averaged: two at a path's first hit (the one the camera sees,
+/// where a caustic's noise shows), one after. Measured (`results/mnee.md`): on `cornell`, two
+/// at every hit gave 12.4% less error for 6–12% more time, and two at the first hit only did as
+/// well; on `next-week`, two at every hit cost 8% more time for no less error, two at the first
+/// hit 1.6%.
+pub fn points(bounce: u32) -> u32 {
+    if bounce == 0 { 2 } else { 1 }
+}
 
 /// Light arriving at a diffuse `hit` through one of the scene's casters, per unit albedo (as
 /// [`super::next_event`]'s), taken with probability `chance` (a coin, the light sample's
-/// last number) and divided by it; then [`POINTS`] aims, each with four draws in its own
-/// dimensions (the caster, the light, a point on it): bounce `bounce` makes aims
-/// `POINTS × bounce` onwards. Counts its shadow rays in `rays`.
+/// last number) and divided by it; then [`points`] aims, each with four draws in its own
+/// dimensions (the caster, the light, a point on it), numbered along the path. Counts its
+/// shadow rays in `rays`.
 pub fn manifold_event<R: SampleRng + ?Sized>(
     scene: &Scene,
     hit: &Hit,
@@ -64,20 +68,22 @@ pub fn manifold_event<R: SampleRng + ?Sized>(
     if uniform(rng) >= chance || !may_focus(scene, hit.departure()) {
         return Vec3::ZERO;
     }
+    let (first, aims) = (if bounce == 0 { 0 } else { bounce + 1 }, points(bounce));
     let mut focused = Vec3::ZERO;
-    for aim in POINTS * bounce..POINTS * (bounce + 1) {
+    for aim in first..first + aims {
         rng.caustic(aim);
-        focused += aim_once(scene, hit, chance, probe, rng, rays);
+        focused += aim_once(scene, hit, chance * aims as Real, probe, rng, rays);
     }
     focused
 }
 
 /// One of [`manifold_event`]'s aims: a caster and a point on a light drawn, every passage
-/// between the hit and the point found, each weighed against the bounce as [`POINTS`] aims.
+/// between the hit and the point found, each weighed against the bounce as the sample's
+/// `aims` (its points times its chance) would weigh it.
 fn aim_once<R: SampleRng + ?Sized>(
     scene: &Scene,
     hit: &Hit,
-    chance: Real,
+    aims: Real,
     probe: Probe,
     rng: &mut R,
     rays: &mut u64,
@@ -85,8 +91,11 @@ fn aim_once<R: SampleRng + ?Sized>(
     let casters = scene.casters();
     let pick = (uniform(rng) * casters.len() as Real) as usize;
     let ball = casters.ball(pick.min(casters.len() - 1));
+    if !may_pass(ball, hit.departure(), casters.lamps()) {
+        return Vec3::ZERO;
+    }
     let Some(light) = scene.lights().sample_emission(probe.time, rng) else { return Vec3::ZERO };
-    let chosen = aimed_density(chance, light.pdf, casters.len());
+    let chosen = aimed_density(aims, light.pdf, casters.len());
     let mut gathered = 0.0;
     solve(ball, hit.departure(), light.point, |passage| {
         gathered += through(scene, hit, (ball, &passage), &light, chosen, probe, rays);
@@ -94,19 +103,23 @@ fn aim_once<R: SampleRng + ?Sized>(
     light.emitted * (gathered / chosen)
 }
 
-/// The density per unit area with which a manifold sample taken with `chance` aims at a light
-/// point drawn with density `pdf`, through one of `casters`: its [`POINTS`] aims together
-/// (each point's estimate is divided by it, so their sum is their mean).
-fn aimed_density(chance: Real, pdf: Real, casters: usize) -> Real {
-    POINTS as Real * chance * pdf / casters as Real
+/// The density per unit area with which a manifold sample that makes `aims` aims (its points
+/// times the chance it was taken) draws a light point of density `pdf` through one of
+/// `casters` (each point's estimate is divided by it, so their sum is their mean).
+fn aimed_density(aims: Real, pdf: Real, casters: usize) -> Real {
+    aims * pdf / casters as Real
 }
 
-/// Whether a manifold sample at `from` can find anything: whether some caster may join it to
-/// some light ([`may_pass`]). Where none can, the sample is not taken at all, and a bounce
-/// that crosses a ball to a light keeps weight 1, as [`Passing::weight`] would give it there.
+/// Whether a manifold sample at `from` may find anything: whether some caster may let light
+/// from the lamps through to it ([`Casters::may_light`], one product each); each aim then asks
+/// [`may_pass`] of the caster it drew. Where neither allows it, the solve would find nothing,
+/// so nothing is drawn, and a bounce that crosses that ball to a light keeps weight 1, as
+/// [`Passing::weight`] would give it there.
+///
+/// [`Casters::may_light`]: crate::tracer::world::casters::Casters::may_light
 fn may_focus(scene: &Scene, from: Vec3) -> bool {
     let casters = scene.casters();
-    (0..casters.len()).any(|k| casters.may_light(k, from) && may_pass(casters.ball(k), from, casters.lamps()))
+    (0..casters.len()).any(|k| casters.may_light(k, from))
 }
 
 /// One passage's share of [`manifold_event`]'s estimate, per unit emission and before the
@@ -186,15 +199,17 @@ pub struct Passing {
     dir: Vec3,
     /// Its density per unit solid angle.
     pdf: Real,
-    /// The chance that a manifold sample was taken at the diffuse hit.
-    chance: Real,
+    /// The aims a manifold sample made at the diffuse hit: its points times the chance it was
+    /// taken.
+    aims: Real,
     stage: Stage,
 }
 
 impl Passing {
-    /// A bounce leaving `from` along `dir`, drawn with density `pdf`.
-    pub fn leave(from: Vec3, dir: Vec3, pdf: Real, chance: Real) -> Passing {
-        Passing { from, dir, pdf, chance, stage: Stage::Left }
+    /// A bounce leaving `from` along `dir`, drawn with density `pdf`, from bounce `bounce`'s
+    /// hit, where a manifold sample was taken with `chance`.
+    pub fn leave(from: Vec3, dir: Vec3, pdf: Real, (bounce, chance): (u32, Real)) -> Passing {
+        Passing { from, dir, pdf, aims: chance * points(bounce) as Real, stage: Stage::Left }
     }
 
     /// The bounce after its next `hit`, where it scattered into `out`: still on its way if it
@@ -236,7 +251,7 @@ impl Passing {
             // The manifold sample gives such a path nothing either.
             return 1.0;
         }
-        let chosen = aimed_density(self.chance, scene.lights().origin_pdf(emitted), casters.len());
+        let chosen = aimed_density(self.aims, scene.lights().origin_pdf(emitted), casters.len());
         power_heuristic(bounce, chosen)
     }
 }

@@ -57,8 +57,8 @@ pub trait SampleRng: Rng {
     }
 
     /// The next numbers (up to four: a glass ball, a light, a point on it) aim a hit at a
-    /// light through a glass ball: the path's aim number `aim` (`lighting/manifold.rs` gives
-    /// each bounce `POINTS` of them). Until the next [`SampleRng::bounce`].
+    /// light through a glass ball: the path's aim number `aim` (`lighting/manifold.rs` numbers
+    /// them along the path, two at its first hit). Until the next [`SampleRng::bounce`].
     fn caustic(&mut self, aim: u32) {
         let _ = aim;
     }
