@@ -12,13 +12,14 @@
 //! [`Passing`] follows a bounce on its way, so that a light it meets after crossing a caster
 //! gets that weight.
 //!
-//! Most manifold samples find nothing. On `cornell`, 76% of them end before drawing anything
-//! (`may_focus`: no light is within reach of the hit through any ball), half the solves left
-//! end at their bound, and 1.5% of the samples find a passage (`results/mnee.md`). A path meets
-//! many diffuse hits in a closed room, most of them carrying little light: so a hit takes a
-//! manifold sample with the chance `min(1, 2 × the path's throughput after it)` (every hit of a
-//! path's first bounces, fewer later), and the sample is divided by that chance and its density
-//! multiplied by it (what that trades, measured: `results/mnee.md`).
+//! Most manifold samples find nothing. On `cornell`, 56% of them end at once (`may_focus`: one
+//! product per caster says no light can reach the hit through it), 76% before a light point is
+//! drawn ([`may_pass`] for the caster drawn), half the solves left end at their bound, and 1.5%
+//! of the samples find a passage (`results/mnee.md`). A path meets many diffuse hits in a
+//! closed room, most of them carrying little light: so a hit takes a manifold sample with the
+//! chance `min(1, 2 × the path's throughput after it)` (every hit of a path's first bounces,
+//! fewer later), and the sample is divided by that chance and its density multiplied by it
+//! (what that trades, measured: `results/mnee.md`).
 //!
 //! Invariant: a path is weighed against the solve only if the solve, run from the same two
 //! points, finds that very passage; otherwise the bounce alone could make it and it keeps
@@ -68,6 +69,7 @@ pub fn manifold_event<R: SampleRng + ?Sized>(
     if uniform(rng) >= chance || !may_focus(scene, hit.departure()) {
         return Vec3::ZERO;
     }
+    // Aims are numbered along the path: the first hit's two, then one per bounce.
     let (first, aims) = (if bounce == 0 { 0 } else { bounce + 1 }, points(bounce));
     let mut focused = Vec3::ZERO;
     for aim in first..first + aims {
