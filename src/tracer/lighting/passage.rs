@@ -10,11 +10,11 @@
 //! angles evenly across the ball as `x` sees it, four at a time in SIMD lanes, and closes in on
 //! every one between two tries where the ray leaving passes from one side of `y` to the other
 //! (regula falsi). A cheap bound ends most solves first ([`may_pass`], asked before a manifold
-//! sample, for a hit and every light at once; then `within_reach`, in the solve, for `x` and
-//! `y`): the ball turns a ray by at most [`Ball::turn`] at the outermost try, so `y` must lie
-//! within that reach. The solve is deterministic: the same `x` and `y` give the same passages,
-//! which is how a bounce that found a passage by chance knows whether the solve would have
-//! found it too (it misses pairs closer than its step).
+//! sample draws its light point, for a hit and every light at once; then `within_reach`, in the
+//! solve, for `x` and `y`): the ball turns a ray by at most [`Ball::turn`] at the outermost
+//! try, so `y` must lie within that reach. The solve is deterministic: the same `x` and `y`
+//! give the same passages, which is how a bounce that found a passage by chance knows whether
+//! the solve would have found it too (it misses pairs closer than its step).
 //!
 //! The density: the bounce leaves `x` in direction `ω` with density `p(ω)` per unit solid
 //! angle and refracts twice with chance `T`, so it lands near `y` with density
