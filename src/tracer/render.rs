@@ -17,7 +17,7 @@ use crate::tracer::camera::{Camera, CameraSettings};
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::manifold::{self, Passing, manifold_event};
 use crate::tracer::lighting::{
-    LightSampling, SHADOW_KEY, lobe_pdf, mixture_bounce, next_event, power_heuristic,
+    LightSampling, SHADOW_KEY, glint, lobe_pdf, mixture_bounce, next_event, power_heuristic,
 };
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, to_dvec3};
@@ -356,6 +356,9 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
     // light it meets there against that.
     let caustics = WORLD && aiming == LightSampling::Mis && !scene.casters().is_empty();
     let mut passing: Option<Passing> = None;
+    // The weight of the light met next: below 1 after glass reflected the path (under `mis`,
+    // `lighting::glint` counts that light).
+    let mut mirrored = 1.0;
     for cast in 1..=settings.max_depth {
         *rays += 1;
         let medium_seed =
@@ -378,12 +381,19 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
                 (None, Some(passing)) => passing.weight(scene, &hit, emitted),
                 (None, None) => 1.0,
             };
-            radiance += throughput * emitted * weight;
+            radiance += throughput * emitted * (weight * mirrored);
+            mirrored = 1.0;
         }
         let Some(mut scatter) = material.scatter(ray.dir, &hit, &scene.textures, rng) else {
             return radiance;
         };
         weighed = None;
+        // Not on a path's last ray: the reflection could not have met a light either.
+        if aiming == LightSampling::Mis && cast < settings.max_depth {
+            let probe = Probe { medium_seed, ..start };
+            let (shown, next) = glint(scene, (&hit, material), (ray.dir, scatter.direction), probe, rays);
+            (radiance, mirrored) = (radiance + throughput * shown, next);
+        }
         // Tested first, so that a first-book scene (always `Bsdf`) has no further work here.
         let lobe = if aiming == LightSampling::Bsdf { None } else { material.lobe() };
         if caustics {
@@ -409,7 +419,8 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
                         let focused = manifold_event(scene, &hit, (cast - 1, chance), shadow, rng, rays);
                         radiance += carried * focused;
                         let taken = (cast - 1, chance);
-                        passing = Some(Passing::leave(hit.departure(), scatter.direction, bsdf_pdf, taken));
+                        passing =
+                            Some(Passing::leave(scene, hit.departure(), scatter.direction, bsdf_pdf, taken));
                     }
                 }
                 LightSampling::Mixture => {

@@ -30,7 +30,7 @@ use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
-use crate::tracer::shading::material::{Lobe, Scatter};
+use crate::tracer::shading::material::{Lobe, Material, Scatter};
 use crate::tracer::world::lights::Lights;
 use crate::tracer::world::object::Probe;
 
@@ -128,6 +128,41 @@ pub fn next_event<R: SampleRng + ?Sized>(
     // weights of the point sum to 1.
     let light_pdf = lights.pdf_of_sample(hit.departure(), &toward, probe.time);
     toward.emitted * (factor / toward.pdf) * power_heuristic(light_pdf, factor)
+}
+
+/// Keys a glint ray's medium numbers apart from its path's.
+pub const GLINT_KEY: u64 = 0x6711_0000_0000_0001;
+
+/// The light that glass met from outside at `hit` shows by reflection (`mis`), found by a ray
+/// of its own, and the weight of the light the path meets next. The Fresnel coin sends a path
+/// into the reflection with chance `R`, so a lamp seen in the glass is otherwise a few samples
+/// of full brightness among many of none: on `cornell`, the pixels where the ball mirrors the
+/// lamp, and the light it throws on the walls by reflection. Instead the reflection's light
+/// counts `R` times, every sample: from the mirror ray cast here if the path went `onward`
+/// into the glass, else where the path meets it next, weighted `R` instead of 1. Either way
+/// the estimate is `R × L`, unbiased. Other hits: nothing, weight 1. Counts the mirror ray in
+/// `rays`.
+#[inline]
+pub fn glint(
+    scene: &Scene,
+    (hit, material): (&Hit, &Material),
+    (incoming, onward): (Vec3, Vec3),
+    probe: Probe,
+    rays: &mut u64,
+) -> (Vec3, Real) {
+    let Some((mirror, share)) = material.glint(incoming, hit) else { return (Vec3::ZERO, 1.0) };
+    if onward.dot(hit.normal) > 0.0 {
+        return (Vec3::ZERO, share);
+    }
+    // Every emitter lies in the lights' box: a mirror ray that misses it needs no casting.
+    let ray = hit.spawn(mirror);
+    if !scene.lights().bounds.hit(ray.origin, ray.dir.recip(), Real::INFINITY) {
+        return (Vec3::ZERO, 1.0);
+    }
+    *rays += 1;
+    let probe = Probe { medium_seed: probe.medium_seed ^ GLINT_KEY, ..probe };
+    let Some(lit) = scene.hit_world(&ray, &probe) else { return (Vec3::ZERO, 1.0) };
+    (share * scene.material(&lit).emitted(&lit), 1.0)
 }
 
 /// The third book's mixture: with probability ½ the bounce's direction is replaced by one

@@ -9,12 +9,15 @@
 //! points (two or three beside cornell's ball, where the caustic folds), so the solve tries
 //! angles evenly across the ball as `x` sees it, four at a time in SIMD lanes, and closes in on
 //! every one between two tries where the ray leaving passes from one side of `y` to the other
-//! (regula falsi). A cheap bound ends most solves first ([`may_pass`], asked before a manifold
+//! (regula falsi). Two passages closer than a step leave no such change of side: where the ray
+//! leaving turns back towards `y` between three tries, the solve seeks that turning point, and
+//! if the ray there passes `y`, closes in on each side of it (on `cornell`, the floor round the
+//! ball's foot, where bounces had found passages the solve missed). A cheap bound ends most solves first ([`may_pass`], asked before a manifold
 //! sample draws its light point, for a hit and every light at once; then `within_reach`, in the
 //! solve, for `x` and `y`): the ball turns a ray by at most [`Ball::turn`] at the outermost
 //! try, so `y` must lie within that reach. The solve is deterministic: the same `x` and `y`
 //! give the same passages, which is how a bounce that found a passage by chance knows whether
-//! the solve would have found it too (it misses pairs closer than its step).
+//! the solve would have found it too (it still misses a few, grazing the rim).
 //!
 //! The density: the bounce leaves `x` in direction `ω` with density `p(ω)` per unit solid
 //! angle and refracts twice with chance `T`, so it lands near `y` with density
@@ -98,10 +101,12 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
     // two bit sets: the tries whose ray leaves towards the target's side of the ball, and
     // those that pass it on the negative side; then only the neighbours that change side.
     let (mut seen, mut negative) = (0u64, 0u64);
+    let mut misses = [0.0; TRIES];
     for block in 0..TRIES / 4 {
         let (across, along) = plane.sides(cos, sin);
         seen |= u64::from(along.cmpgt(Real4::ZERO).bitmask()) << (4 * block);
         negative |= u64::from(across.cmplt(Real4::ZERO).bitmask()) << (4 * block);
+        misses[4 * block..4 * block + 4].copy_from_slice(&(across / along).to_array());
         (sin, cos) = (sin * four.cos + cos * four.sin, cos * four.cos - sin * four.sin);
     }
     // Only passages between the first and last tries inside the tangents are looked for,
@@ -109,16 +114,76 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
     seen &= !(1 | 1 << (TRIES - 1));
     // Bit k: tries k and k + 1 are both seen and on opposite sides.
     let mut changes = seen & (seen >> 1) & (negative ^ (negative >> 1)) & ((1u64 << (TRIES - 1)) - 1);
+    let entry = |a: Real| center + radius * (a.cos() * e1 + a.sin() * e2);
+    let mut pass = |found: Option<Real>| {
+        if let Some(passage) = found.and_then(|a| ball.pass_at(from, entry(a))) {
+            each(passage);
+        }
+    };
     while changes != 0 {
         let k = changes.trailing_zeros() as usize;
         changes &= changes - 1;
         let bracket = |k: usize| Some((angle(k), miss(angle(k))?));
-        let entry = |a: Real| center + radius * (a.cos() * e1 + a.sin() * e2);
-        let found = bracket(k).zip(bracket(k + 1)).and_then(|(low, high)| close_in(&miss, low, high));
-        if let Some(passage) = found.and_then(|a| ball.pass_at(from, entry(a))) {
-            each(passage);
+        pass(bracket(k).zip(bracket(k + 1)).and_then(|(low, high)| close_in(&miss, low, high)));
+    }
+    // A fold: where the ray leaving turns back towards the target and away again between
+    // three tries on one side of it, two passages may lie between the outer two, closer than
+    // a step. The turning point is sought; if the ray there passes the target, each half
+    // holds one passage.
+    let mut dips =
+        seen & (seen >> 1) & (seen << 1) & !(negative ^ (negative >> 1)) & !(negative ^ (negative << 1));
+    while dips != 0 {
+        let k = dips.trailing_zeros() as usize;
+        dips &= dips - 1;
+        let side = misses[k].signum();
+        let (middle, outer) = (side * misses[k], (side * misses[k - 1]).min(side * misses[k + 1]));
+        if middle > FOLD_DEPTH * outer {
+            continue;
+        }
+        let Some(turn) = turning_point(&miss, (angle(k - 1), angle(k + 1)), side) else { continue };
+        pass(close_in(&miss, (angle(k - 1), misses[k - 1]), turn));
+        pass(close_in(&miss, turn, (angle(k + 1), misses[k + 1])));
+    }
+}
+
+/// How far below both its neighbours' misses the middle try's must dip for [`solve`] to seek
+/// a fold there. Shallower dips rarely hide passages. On `cornell` (80², 256 spp, one seed),
+/// a quarter of the solves have a dip, and 332 of their 142,739 dips hide passages; this
+/// depth leaves 95.5% of the others unsought and keeps 99.4% of those.
+const FOLD_DEPTH: Real = 0.9;
+
+/// The most golden-section steps [`turning_point`] takes: they narrow its interval to 0.07%.
+const TURNING_STEPS: u32 = 15;
+
+/// An entry angle between `low` and `high` where the ray leaving passes the target on the
+/// other side than `side` (the side of the rays entering at `low`, the middle try and
+/// `high`), and its miss; sought by golden section towards the least `side × miss`.
+fn turning_point(
+    miss: &impl Fn(Real) -> Option<Real>,
+    (mut low, mut high): (Real, Real),
+    side: Real,
+) -> Option<(Real, Real)> {
+    const GOLDEN: Real = 0.618_034;
+    let inner = |a: Real| -> Option<(Real, Real)> { Some((a, miss(a)?)) };
+    let mut left = inner(high - GOLDEN * (high - low))?;
+    let mut right = inner(low + GOLDEN * (high - low))?;
+    for _ in 0..TURNING_STEPS {
+        for probe in [left, right] {
+            if side * probe.1 < 0.0 {
+                return Some(probe);
+            }
+        }
+        if side * left.1 < side * right.1 {
+            high = right.0;
+            right = left;
+            left = inner(high - GOLDEN * (high - low))?;
+        } else {
+            low = left.0;
+            left = right;
+            right = inner(low + GOLDEN * (high - low))?;
         }
     }
+    None
 }
 
 /// A rotation in the plane by an angle, as its sine and cosine.

@@ -151,6 +151,15 @@ impl Material {
         }
     }
 
+    /// For glass met from outside, its mirror direction at `hit` for the unit `incoming` and
+    /// the share of light it reflects there (Schlick's, the chance that [`Material::scatter`]
+    /// reflects); `None` for any other material, or glass met from inside.
+    pub fn glint(&self, incoming: Vec3, hit: &Hit) -> Option<(Vec3, Real)> {
+        let Material::Dielectric { ior } = *self else { return None };
+        let cos_theta = (-incoming).dot(hit.normal).min(1.0);
+        hit.front_face.then(|| (reflect(incoming, hit.normal), schlick(cos_theta, 1.0 / ior)))
+    }
+
     /// Whether the first book's render loop handles this material (no texture, no light, no
     /// medium).
     pub fn is_first_book(&self) -> bool {

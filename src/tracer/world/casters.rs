@@ -145,6 +145,20 @@ impl Ball {
         off.min(PI)
     }
 
+    /// How far from its centre the ball focuses light that arrives parallel: `n r / 2(n − 1)`
+    /// (paraxial; 1.5 radii for glass of 1.5), 0 for an index of 1 or below, which focuses
+    /// nothing. Within it lies the bright core of the ball's caustic.
+    ///
+    /// ```
+    /// use raypool::tracer::geometry::sphere::Sphere;
+    /// use raypool::tracer::world::casters::Ball;
+    /// let ball = Ball::new(Sphere { center: Default::default(), radius: 2.0, material: 0 }, 1.5);
+    /// assert_eq!(ball.focus(), 3.0);
+    /// ```
+    pub fn focus(&self) -> Real {
+        if self.ior > 1.0 { self.ior * self.sphere.radius / (2.0 * (self.ior - 1.0)) } else { 0.0 }
+    }
+
     /// Whether `point` lies on the ball's surface (to a thousandth of its radius).
     pub fn holds(&self, point: Vec3) -> bool {
         ((point - self.sphere.center).length() - self.sphere.radius).abs() <= 1e-3 * self.sphere.radius
@@ -195,6 +209,14 @@ impl Casters {
         let (center, (lamp, _)) = (self.balls[k].sphere.center, self.lamps);
         let (inward, outward) = (center - from, lamp - center);
         inward.dot(outward) >= self.widest[k] * (inward.length_squared() * outward.length_squared()).sqrt()
+    }
+
+    /// Whether `from` lies within some ball's [`Ball::focus`] of its centre, where its caustic
+    /// is brightest.
+    pub fn near_focus(&self, from: Vec3) -> bool {
+        self.balls
+            .iter()
+            .any(|ball| (from - ball.sphere.center).length_squared() < ball.focus() * ball.focus())
     }
 
     /// A sphere around every point of the scene's lights: centre and radius.
