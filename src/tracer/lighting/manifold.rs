@@ -81,12 +81,34 @@ pub fn manifold_event<R: SampleRng + ?Sized>(
     // Aims are numbered along the path: the first hit's, then one per bounce.
     let near = scene.casters().near_focus(hit.departure());
     let (first, aims) = (if bounce == 0 { 0 } else { FIRST_POINTS + bounce - 1 }, points(bounce, near));
-    let mut focused = Vec3::ZERO;
+    let (mut focused, mut allowed) = (Vec3::ZERO, Allowed::default());
     for aim in first..first + aims {
         rng.caustic(aim);
-        focused += aim_once(scene, hit, chance * aims as Real, probe, rng, rays);
+        focused += aim_once(scene, (hit, &mut allowed), chance * aims as Real, probe, rng, rays);
     }
     focused
+}
+
+/// Which casters [`may_pass`] allows from one hit, each asked once: a hit's aims draw their
+/// casters again and again (cornell's eight all draw its one ball).
+#[derive(Default)]
+struct Allowed {
+    /// Bit `k`: caster `k` was asked (casters from 64 on are asked every time).
+    asked: u64,
+    /// Bit `k`: it allows the hit.
+    allows: u64,
+}
+
+impl Allowed {
+    /// Whether caster `k`, `ball`, may let light from `lamps` through to `from`.
+    fn ask(&mut self, k: usize, ball: &Ball, from: Vec3, lamps: (Vec3, Real)) -> bool {
+        let Some(bit) = 1u64.checked_shl(k as u32) else { return may_pass(ball, from, lamps) };
+        if self.asked & bit == 0 {
+            self.asked |= bit;
+            self.allows |= if may_pass(ball, from, lamps) { bit } else { 0 };
+        }
+        self.allows & bit != 0
+    }
 }
 
 /// One of [`manifold_event`]'s aims: a caster and a point on a light drawn, every passage
@@ -94,16 +116,16 @@ pub fn manifold_event<R: SampleRng + ?Sized>(
 /// `aims` (its points times its chance) would weigh it.
 fn aim_once<R: SampleRng + ?Sized>(
     scene: &Scene,
-    hit: &Hit,
+    (hit, allowed): (&Hit, &mut Allowed),
     aims: Real,
     probe: Probe,
     rng: &mut R,
     rays: &mut u64,
 ) -> Vec3 {
     let casters = scene.casters();
-    let pick = (uniform(rng) * casters.len() as Real) as usize;
-    let ball = casters.ball(pick.min(casters.len() - 1));
-    if !may_pass(ball, hit.departure(), casters.lamps()) {
+    let pick = ((uniform(rng) * casters.len() as Real) as usize).min(casters.len() - 1);
+    let ball = casters.ball(pick);
+    if !allowed.ask(pick, ball, hit.departure(), casters.lamps()) {
         return Vec3::ZERO;
     }
     let Some(light) = scene.lights().sample_emission(probe.time, rng) else { return Vec3::ZERO };
