@@ -138,11 +138,11 @@ impl Sphere {
         }
     }
 
-    /// [`Sphere::hit_at`] with the texture coordinates filled in: `u` the angle around the y
-    /// axis from −x, `v` from the bottom pole (the book's `get_sphere_uv`), both in `[0, 1]`.
+    /// `hit`, one of [`Sphere::hit_at`]'s, with its texture coordinates filled in: `u` the
+    /// angle around the y axis from −x, `v` from the bottom pole (the book's `get_sphere_uv`),
+    /// both in `[0, 1]`. An arc cosine and an arc tangent: paid for the closest hit only.
     #[inline]
-    pub fn hit_at_with_uv(&self, ray: &Ray, t: Real) -> Hit {
-        let mut hit = self.hit_at(ray, t);
+    pub fn with_uv(&self, mut hit: Hit) -> Hit {
         let outward = if hit.front_face == (self.radius > 0.0) { hit.normal } else { -hit.normal };
         let theta = (-outward.y).clamp(-1.0, 1.0).acos();
         let phi = (-outward.z).atan2(outward.x) + consts::PI;

@@ -75,6 +75,17 @@ impl Object {
         }
     }
 
+    /// `hit`, its closest, with what [`Object::hit`] left out for hits that may not be the
+    /// closest: a sphere's texture coordinates.
+    #[inline]
+    fn with_uv(&self, hit: Hit, probe: &Probe) -> Hit {
+        match self {
+            Object::Sphere(sphere) => sphere.with_uv(hit),
+            Object::Moving(moving) => moving.at(probe.time).with_uv(hit),
+            _ => hit,
+        }
+    }
+
     /// Whether anything of it is hit in `(0, t_max)` (a shadow ray's question: which hit is
     /// nearest does not matter, so a search may end at the first).
     #[inline]
@@ -123,11 +134,12 @@ impl Object {
     }
 }
 
-/// A sphere's hit with its texture coordinates (the world's spheres may be textured).
+/// A sphere's hit, without its texture coordinates ([`Object::with_uv`] adds them to the
+/// closest hit).
 #[inline]
 fn sphere_hit(sphere: &Sphere, ray: &Ray, t_max: Real) -> Option<Hit> {
     let t = sphere.intersect(ray, t_max)?;
-    Some(sphere.hit_at_with_uv(ray, t))
+    Some(sphere.hit_at(ray, t))
 }
 
 impl Bounded for Object {
@@ -223,7 +235,7 @@ impl Group {
             if let Some(hit) = self.objects[i].hit(ray, closest.bound(), probe) {
                 closest.offer(hit.t, i as u32);
                 if closest.index == i as u32 {
-                    best = Some(hit);
+                    best = Some((hit, i));
                 }
             }
         };
@@ -233,7 +245,7 @@ impl Group {
                 tree.traverse(ray, &mut closest, |leaf, closest| leaf.for_each(|i| offer(i, closest)))
             }
         }
-        best
+        best.map(|(hit, i)| self.objects[i].with_uv(hit, probe))
     }
 
     /// Whether anything in the group is hit in `(0, t_max)`: the search ends at the first
