@@ -12,10 +12,11 @@
 //! (regula falsi). Two passages closer than a step leave no such change of side: where the ray
 //! leaving turns back towards `y` between three tries, the solve seeks that turning point, and
 //! if the ray there passes `y`, closes in on each side of it (on `cornell`, the floor round the
-//! ball's foot, where bounces had found passages the solve missed). A cheap bound ends most solves first ([`may_pass`], asked before a manifold
-//! sample draws its light point, for a hit and every light at once; then `within_reach`, in the
-//! solve, for `x` and `y`): the ball turns a ray by at most [`Ball::turn`] at the outermost
-//! try, so `y` must lie within that reach. The solve is deterministic: the same `x` and `y`
+//! ball's foot, where bounces had found passages the solve missed). A cheap bound ends most
+//! solves first ([`may_pass`], asked before a manifold sample draws its light point, for a hit
+//! and every light at once; then `within_reach`, in the solve, for `x` and `y`): the ball
+//! turns a ray by at most [`Ball::turn`] at the outermost try, so `y` must lie within that
+//! reach. The solve is deterministic: the same `x` and `y`
 //! give the same passages, which is how a bounce that found a passage by chance knows whether
 //! the solve would have found it too (it still misses a few, grazing the rim).
 //!
