@@ -15,7 +15,7 @@ use crate::schedule::frame::DEFAULT_TILE;
 use crate::schedule::modes::Schedule;
 use crate::schedule::random::RngChoice;
 use crate::tracer::lighting::LightSampling;
-use crate::tracer::render::MAX_SIDE;
+use crate::tracer::render::{EDGE_SPOTS, MAX_SIDE};
 use crate::tracer::sampling::sampler::Sampler;
 use crate::tracer::scene::{Accel, Scene};
 use crate::tracer::tile::Shard;
@@ -111,6 +111,10 @@ pub struct ImageArgs {
     /// against the bounce (mis: multiple importance sampling). All give the same mean image.
     #[arg(long, value_enum, default_value_t = LightSampling::Mis)]
     pub light_sampling: LightSampling,
+    /// Where a pixel may see a light: extra points per sample for the light it sees directly
+    /// (the light's edges then converge with the rest of the image); 0 for none.
+    #[arg(long, default_value_t = EDGE_SPOTS, value_parser = clap::value_parser!(u32).range(0..=1024))]
+    pub edge_spots: u32,
     /// Tile side in pixels, for the tiled modes (pool, steal).
     #[arg(long, default_value_t = DEFAULT_TILE, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
     pub tile: u32,

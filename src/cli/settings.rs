@@ -63,6 +63,7 @@ pub fn render_settings(args: &ImageArgs, scene: &SceneFile, rng: RngChoice) -> R
         adaptive,
         sampler: sampler(args, rng)?,
         light_sampling: args.light_sampling,
+        edge_spots: args.edge_spots,
         ..RenderSettings::default()
     })
 }

@@ -65,8 +65,10 @@ pub struct PartSettings {
     pub stop_black_paths: bool,
     /// `independent` or `sobol`.
     pub sampler: String,
-    /// `bsdf`, `mixture` or `mis`.
+    /// `bsdf`, `mixture`, `mis` or `bdpt`.
     pub light_sampling: String,
+    /// Edge points per sample where a pixel may see a light.
+    pub edge_spots: u32,
     /// Adaptive sampling's target error, if on.
     pub target_error: Option<f64>,
     /// Adaptive sampling's samples per pass, if on.
@@ -94,6 +96,7 @@ impl PartSettings {
             stop_black_paths: settings.stop_black_paths,
             sampler: settings.sampler.name().to_string(),
             light_sampling: settings.light_sampling.name().to_string(),
+            edge_spots: settings.edge_spots,
             target_error: settings.adaptive.map(|a| to_f64(a.target_error)),
             min_spp: settings.adaptive.map(|a| a.min_spp),
             tile,

@@ -7,6 +7,7 @@
 use rand::Rng;
 use serde::{Deserialize, Serialize};
 
+use crate::tracer::math::aabb::Aabb;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, vec3};
 use crate::tracer::sampling::warp::{random_in_unit_disk, uniform};
@@ -122,11 +123,55 @@ impl Camera {
     /// instructions inlined, `results/perf.md`).
     #[inline(always)]
     pub fn ray<R: Rng + ?Sized>(&self, i: u32, j: u32, rng: &mut R) -> Ray {
-        let ox = uniform(rng) - 0.5;
-        let oy = uniform(rng) - 0.5;
-        let target = self.pixel00 + (i as Real + ox) * self.delta_u + (j as Real + oy) * self.delta_v;
+        let spot = [uniform(rng), uniform(rng)];
         let origin = self.lens_point(rng);
+        self.ray_from(origin, i, j, spot)
+    }
+
+    /// The ray from the lens point `origin` through the point `spot` (two numbers in
+    /// `[0, 1)`, across and down) of pixel `(i, j)`.
+    #[inline(always)]
+    pub fn ray_from(&self, origin: Vec3, i: u32, j: u32, spot: [Real; 2]) -> Ray {
+        let (ox, oy) = (spot[0] - 0.5, spot[1] - 0.5);
+        let target = self.pixel00 + (i as Real + ox) * self.delta_u + (j as Real + oy) * self.delta_v;
         Ray::new(origin, target - origin)
+    }
+
+    /// The pixels some camera ray through which may meet `bounds` (columns, then rows), or
+    /// every pixel if part of the box lies behind the lens: each corner projected from the
+    /// lens's centre, spread by how far the lens moves its image, and a pixel more for
+    /// rounding. Never leaves out a pixel whose rays can meet the box.
+    pub fn pixels_seeing(&self, bounds: &Aabb) -> [std::ops::Range<u32>; 2] {
+        let every = [0..self.width, 0..self.height];
+        if bounds.min.cmpgt(bounds.max).any() {
+            return [0..0, 0..0];
+        }
+        let corner00 = self.pixel00 - 0.5 * (self.delta_u + self.delta_v);
+        let pixel = self.delta_u.length();
+        let lens = self.lens_u.length();
+        let (mut low, mut high) = ([Real::INFINITY; 2], [Real::NEG_INFINITY; 2]);
+        for corner in bounds.corners() {
+            let to = corner - self.center;
+            let along = to.dot(self.forward);
+            // Behind the lens, beside it, or not a number: no projection to trust.
+            if along.partial_cmp(&(1e-3 * to.length())) != Some(std::cmp::Ordering::Greater) {
+                return every;
+            }
+            let on_film = self.center + to * (self.focus / along) - corner00;
+            let at =
+                [on_film.dot(self.delta_u) / (pixel * pixel), on_film.dot(self.delta_v) / (pixel * pixel)];
+            let spread = lens * (1.0 - self.focus / along).abs() / pixel;
+            for d in 0..2 {
+                low[d] = low[d].min(at[d] - spread);
+                high[d] = high[d].max(at[d] + spread);
+            }
+        }
+        let size = [self.width, self.height];
+        std::array::from_fn(|d| {
+            let from = (low[d] - 1.0).floor().clamp(0.0, size[d] as Real) as u32;
+            let to = (high[d] + 2.0).floor().clamp(0.0, size[d] as Real) as u32;
+            if low[d].is_finite() && high[d].is_finite() { from..to.max(from) } else { every[d].clone() }
+        })
     }
 
     /// The angle one pixel spans at the image's centre, radians (`2·tan(vfov/2) / height`):

@@ -6,6 +6,8 @@
 //! cannot change a single number it draws. [`RandomStreams`] hands out those streams, a pixel
 //! at a time; [`Sampler`] (`--sampler`) names the two real ones, each in a file of its own.
 
+use crate::tracer::math::real::Real;
+use crate::tracer::sampling::warp::uniform;
 use rand::Rng;
 use rand::rngs::SmallRng;
 use rand_xoshiro::SplitMix64;
@@ -61,6 +63,16 @@ pub trait SampleRng: Rng {
     /// them along the path, two at its first hit). Until the next [`SampleRng::bounce`].
     fn caustic(&mut self, aim: u32) {
         let _ = aim;
+    }
+
+    /// A point in the pixel, two numbers in `[0, 1)`: the `spot`-th of the `of` extra points
+    /// this pixel sample takes to see the lights' edges (`render.rs`). A low-discrepancy
+    /// sampler takes them from a sequence of their own, `of` points per sample, so that the
+    /// first `n` samples' points fill the pixel as `n × of` samples would; others draw two
+    /// more numbers.
+    fn edge_spot(&mut self, spot: u32, of: u32) -> [Real; 2] {
+        let _ = (spot, of);
+        [uniform(self), uniform(self)]
     }
 }
 

@@ -10,9 +10,11 @@ use std::sync::Arc;
 use rand::Rng;
 use rand_xoshiro::SplitMix64;
 
+use crate::tracer::math::real::Real;
 use crate::tracer::sampling::independent::{PerSample, mix};
 use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, SampleRng};
 use crate::tracer::sampling::sobol_table::{PairKeys, SobolTable};
+use crate::tracer::sampling::warp::uniform;
 
 pub use crate::tracer::sampling::sobol_table::SOBOL_SAMPLES;
 
@@ -268,7 +270,22 @@ impl SampleRng for SobolStream<'_> {
     fn caustic(&mut self, aim: u32) {
         self.use_dimensions(CAUSTIC_SETS + aim, 0..4);
     }
+
+    /// Point `sample × of + spot` of a 2-dimensional Owen-scrambled Sobol sequence of the
+    /// pixel's own (`sobol_burley`'s two first dimensions, its seed the pixel's keyed apart);
+    /// independent numbers past the sequence's 2¹⁶ points.
+    fn edge_spot(&mut self, spot: u32, of: u32) -> [Real; 2] {
+        let index = self.fallback.sample * u64::from(of) + u64::from(spot);
+        if index >= SOBOL_SAMPLES {
+            return [uniform(self.fallback()), uniform(self.fallback())];
+        }
+        let seed = mix(self.pixel.seed ^ EDGE_KEY) as u32;
+        [0, 1].map(|d| sobol_burley::sample(index as u32, d, seed) as Real)
+    }
 }
+
+/// Keys the sequence of a pixel's edge points apart from its dimension sets.
+const EDGE_KEY: u64 = 0xED6E_0000_0000_0001;
 
 impl rand::TryRng for SobolStream<'_> {
     type Error = std::convert::Infallible;

@@ -1,0 +1,82 @@
+//! **The lights' edges**: extra camera points where a pixel may see a light directly.
+//!
+//! A pixel that holds the edge of a light sees, sample by sample, either the light (on
+//! `cornell`, 15) or the ceiling beside it (under 1): the widest spread of any pixel, and one
+//! no light sampling touches. On `cornell` at 64 spp these pixels held a third of `mis`'s
+//! squared error. What the pixel sees of the light is cheap to find (a ray and no bounce), so
+//! each sample there looks through [`Edges::spots`] more points of the pixel for light alone,
+//! and counts their mean instead of what its own first hit emits; the path goes on from its
+//! own hit as before. The estimate stays unbiased: every point is uniform in the pixel, so
+//! each one's light has the mean of the first hit's.
+//!
+//! Only pixels whose rays may meet the lights' box take them ([`Camera::pixels_seeing`]), and
+//! a point whose ray misses that box casts nothing. With Sobol the points come from a
+//! sequence of the pixel's own, `spots` per sample ([`SampleRng::edge_spot`]), so a pixel's
+//! first `n` samples place `n × spots` points as evenly as that many samples would.
+
+use std::ops::Range;
+
+use crate::tracer::camera::Camera;
+use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::sampling::sampler::SampleRng;
+use crate::tracer::scene::Scene;
+use crate::tracer::world::object::Probe;
+
+/// Keys an edge ray's medium numbers apart from its path's.
+const EDGE_RAY_KEY: u64 = 0xED6E_5000_0000_0001;
+
+/// Which pixels take edge points, and how many each sample takes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Edges {
+    columns: Range<u32>,
+    rows: Range<u32>,
+    /// Points per sample in those pixels (0: none anywhere).
+    pub spots: u32,
+}
+
+impl Edges {
+    /// `spots` points per sample in the pixels of `camera` that may see one of `scene`'s lights
+    /// (none in a scene without lights).
+    pub fn new(scene: &Scene, camera: &Camera, spots: u32) -> Edges {
+        let [columns, rows] = if spots == 0 || scene.lights().is_empty() {
+            [0..0, 0..0]
+        } else {
+            camera.pixels_seeing(&scene.lights().bounds)
+        };
+        Edges { columns, rows, spots }
+    }
+
+    /// Whether pixel `(i, j)` takes edge points.
+    #[inline]
+    pub fn covers(&self, i: u32, j: u32) -> bool {
+        self.columns.contains(&i) && self.rows.contains(&j)
+    }
+
+    /// The mean light emitted towards the camera at the first hit of [`Edges::spots`] rays
+    /// from the lens point `origin` through points of pixel `(i, j)`, at the path's `probe`.
+    /// Counts the rays cast in `rays`.
+    pub fn light<R: SampleRng + ?Sized>(
+        &self,
+        (scene, camera): (&Scene, &Camera),
+        origin: Vec3,
+        (i, j): (u32, u32),
+        probe: Probe,
+        rng: &mut R,
+        rays: &mut u64,
+    ) -> Vec3 {
+        let box_of_lights = &scene.lights().bounds;
+        let mut sum = Vec3::ZERO;
+        for spot in 0..self.spots {
+            let ray = camera.ray_from(origin, i, j, rng.edge_spot(spot, self.spots));
+            if !box_of_lights.hit(ray.origin, ray.dir.recip(), Real::INFINITY) {
+                continue;
+            }
+            *rays += 1;
+            let probe = Probe { medium_seed: probe.medium_seed ^ EDGE_RAY_KEY ^ u64::from(spot), ..probe };
+            if let Some(hit) = scene.hit_world(&ray, &probe) {
+                sum += scene.material(&hit).emitted(&hit);
+            }
+        }
+        sum / self.spots as Real
+    }
+}
