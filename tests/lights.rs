@@ -271,3 +271,46 @@ fn every_direction_drawn_towards_a_small_far_sphere_has_a_density_in_the_mixture
         .count();
     assert_eq!(without, 0, "drawn directions the lights' density says they cannot draw");
 }
+
+#[test]
+fn a_shadow_ray_cast_by_chance_counts_one_over_its_chance() {
+    // On `cornell`'s floor below the lamp: next-event estimation cast with chance 0.2 has the
+    // mean it has with chance 1 (within 5 standard errors of 200,000 samples each), and casts
+    // about a fifth of the shadow rays.
+    use raypool::tracer::geometry::hit::Hit;
+    use raypool::tracer::lighting::next_event;
+    use raypool::tracer::shading::material::Lobe;
+    let scene = raypool::scenes::builtin::builtin_scene("cornell", 0).unwrap().to_scene();
+    let floor = Hit {
+        t: 1.0,
+        point: Vec3::new(250.0, 0.0, 260.0),
+        normal: Vec3::Y,
+        front_face: true,
+        material: 0,
+        offset: 1e-3,
+        lift: 0.0,
+        u: 0.0,
+        v: 0.0,
+    };
+    let n = 200_000;
+    let estimate = |chance: Real| {
+        let (mut rng, mut rays) = (SmallRng::seed_from_u64(9), 0);
+        let values: Vec<f64> = (0..n)
+            .map(|_| {
+                f64::from(
+                    next_event(&scene, &floor, Lobe::Cosine, Probe::default(), chance, &mut rng, &mut rays).x,
+                )
+            })
+            .collect();
+        let mean = values.iter().sum::<f64>() / n as f64;
+        let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
+        (mean, variance / n as f64, rays)
+    };
+    let (always, always_var, all_rays) = estimate(1.0);
+    let (sometimes, sometimes_var, some_rays) = estimate(0.2);
+    assert!(always > 0.1, "the lamp lights the floor: {always}");
+    let gap = (always - sometimes).abs();
+    assert!(gap <= 5.0 * (always_var + sometimes_var).sqrt(), "chance 1: {always}, chance 0.2: {sometimes}");
+    let share = some_rays as f64 / all_rays as f64;
+    assert!((share - 0.2).abs() < 0.01, "a fifth of the shadow rays, not {share}");
+}

@@ -5,7 +5,7 @@
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::manifold::{self, Passing, manifold_event};
 use crate::tracer::lighting::{
-    LightSampling, SHADOW_KEY, glint, lobe_pdf, mixture_bounce, next_event, power_heuristic,
+    LightSampling, SHADOW_KEY, glint, lobe_pdf, mixture_bounce, next_event, power_heuristic, shadow_chance,
 };
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
@@ -47,7 +47,7 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
     // The previous hit's point and its material's density for the bounce that led here, if
     // that bounce was weighed against a light sample (MIS): an emitter it reaches is then
     // weighted by the power heuristic. Otherwise an emitter counts whole.
-    let mut weighed: Option<(Vec3, Real)> = None;
+    let mut weighed: Option<(Vec3, Real, Real)> = None;
     // Under `mis`, with glass balls and lights: each diffuse hit also aims at a light through
     // a ball (`lighting/manifold.rs`), and its bounce is followed through a ball to weigh a
     // light it meets there against that.
@@ -72,9 +72,10 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
             let emitted = if cast > 1 || first_light { material.emitted(&hit) } else { Vec3::ZERO };
             let weight = match (weighed, passing) {
                 _ if emitted == Vec3::ZERO => 1.0,
-                (Some((from, bsdf_pdf)), _) => {
-                    power_heuristic(bsdf_pdf, scene.lights().pdf_of_hit(from, &hit, emitted, start.time))
-                }
+                (Some((from, bsdf_pdf, chance)), _) => power_heuristic(
+                    bsdf_pdf,
+                    chance * scene.lights().pdf_of_hit(from, &hit, emitted, start.time),
+                ),
                 (None, Some(passing)) => passing.weight(scene, &hit, emitted),
                 (None, None) => 1.0,
             };
@@ -105,13 +106,14 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
             match aiming {
                 LightSampling::Mis if cast < settings.max_depth => {
                     let shadow = Probe { medium_seed: medium_seed ^ SHADOW_KEY, ..start };
-                    let direct = next_event(scene, &hit, lobe, shadow, rng, rays);
-                    radiance += throughput * scatter.attenuation * direct;
+                    let carried = throughput * scatter.attenuation;
+                    let aim = shadow_chance(carried);
+                    let direct = next_event(scene, &hit, lobe, shadow, aim, rng, rays);
+                    radiance += carried * direct;
                     let bsdf_pdf = lobe_pdf(lobe, scatter.direction, hit.normal);
-                    weighed = Some((hit.departure(), bsdf_pdf));
+                    weighed = Some((hit.departure(), bsdf_pdf, aim));
                     if caustics && lobe == Lobe::Cosine && cast + manifold::RAYS <= settings.max_depth {
                         // Fewer solves where the path carries little (`lighting/manifold.rs`).
-                        let carried = throughput * scatter.attenuation;
                         let chance = (2.0 * carried.max_element()).min(1.0);
                         let focused = manifold_event(scene, &hit, (cast - 1, chance), shadow, rng, rays);
                         radiance += carried * focused;
