@@ -116,11 +116,12 @@ pub fn report(out_dir: &Path, quick: bool) -> String {
          the Sobol sampler, {TIMING} timed runs interleaved over the methods, every core of the machine (`nproc`). The \
          reference: `mis`, two halves of different seeds, its noise taken out. *bsdf* follows the material only; \
          *mixture* is the third book's 50/50 mixture of light and material; *mis* casts a shadow ray at every diffuse \
-         hit, weighed against the bounce by the power heuristic; *+rr*: Russian roulette after 4 rays; *adaptive*: \
+         hit (by a chance at dim ones), weighed against the bounce by the power heuristic; *+rr*: Russian roulette after 4 rays; *adaptive*: \
          `--target-error E --min-spp {min} --max-spp {goal_spp}`. Time = where the method's error-against-time curve \
          crosses bsdf's error at {goal_spp} spp (log–log between the runs around it); ratio = that ÷ bsdf's time at \
-         {goal_spp} spp. RMSE weighs bright pixels (the light's own edges, seen directly and through the glass sphere, \
-         whose noise every setting shares) by their brightness; relMSE, (x − r)²/(r² + 0.01), weighs every pixel \
+         {goal_spp} spp. Every setting takes 16 edge points per sample where a pixel may see the light (`--edge-spots`). \
+         RMSE weighs bright pixels (the light's own edges, seen through the glass sphere above all, whose noise \
+         every setting shares) by their brightness; relMSE, (x − r)²/(r² + 0.01), weighs every pixel \
          alike.\n\n| scene | reference spp | reference noise (RMSE) |\n|---|---:|---:|\n",
         w = config.width,
         TIMING = super::TIMING_ROUNDS,
