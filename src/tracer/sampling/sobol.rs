@@ -103,9 +103,25 @@ impl RandomStreams for SobolStreams {
     }
 }
 
-/// How many pairs of a pixel's dimension sets keep their keys for the pixel's next samples:
-/// sets 0 to 3, the camera's and those of bounces 0 to 5, more than almost every path uses.
-const KEPT_PAIRS: usize = 2;
+/// Which pairs of a pixel's dimension sets keep their keys for the pixel's next samples, as
+/// runs of pairs `(first, count)`: sets 0 to 3 (the camera's and bounces 0 to 5), the light
+/// samples of bounces 0 to 3, and aims 0 to 9 through glass (a path's first hit takes up to
+/// eight): more than almost every path uses. Others are made for each sample that needs them.
+const KEPT: [(u32, u32); 3] = [(0, 2), (LIGHT_SETS / 2, 2), (CAUSTIC_SETS / 2, 5)];
+const KEPT_PAIRS: usize = 9;
+
+/// Where pair `pair`'s keys are kept, if they are.
+#[inline]
+fn kept_at(pair: u32) -> Option<usize> {
+    let mut at = 0;
+    for (first, count) in KEPT {
+        if (first..first + count).contains(&pair) {
+            return Some(at + (pair - first) as usize);
+        }
+        at += count as usize;
+    }
+    None
+}
 
 /// One pixel's Sobol streams: its scramble seed and, made the first time a sample needs them,
 /// the keys of its first dimension sets, which every later sample of the pixel reuses. A key
@@ -119,7 +135,7 @@ pub struct SobolPixel<'a> {
     fallback: (PerSample, u64),
     keys: [Cell<PairKeys>; KEPT_PAIRS],
     /// Bit `k` set: `keys[k]` is made.
-    made: Cell<u8>,
+    made: Cell<u16>,
 }
 
 impl SobolPixel<'_> {
@@ -137,12 +153,13 @@ impl SobolPixel<'_> {
     }
 
     /// The keys of dimension sets `2 pair` and `2 pair + 1`, kept from an earlier sample if
-    /// they are among the first.
+    /// they are among those [`KEPT`].
     #[inline]
     fn keys(&self, pair: u32) -> PairKeys {
         let make = || PairKeys::new([0, 1].map(|k| mix(self.seed ^ u64::from(2 * pair + k)) as u32));
-        let Some(kept) = self.keys.get(pair as usize) else { return make() };
-        let bit = 1 << pair;
+        let Some(at) = kept_at(pair) else { return make() };
+        let kept = &self.keys[at];
+        let bit = 1 << at;
         if self.made.get() & bit == 0 {
             kept.set(make());
             self.made.set(self.made.get() | bit);
@@ -168,12 +185,12 @@ impl PixelStreams for SobolPixel<'_> {
         } else {
             (Default::default(), None)
         };
+        let empty = ([0; 8], NO_PAIR);
         SobolStream {
             pixel: self,
             index_rev,
-            numbers,
-            loaded: 0,
-            spare: ([0; 8], NO_PAIR),
+            slots: [(numbers, 0), empty, empty],
+            slot: BOUNCES,
             next: 0,
             end: if index_rev.is_some() { 4 } else { 0 },
             fallback: Fallback { sample, rng: None },
@@ -187,19 +204,24 @@ pub struct SobolStream<'a> {
     pixel: &'a SobolPixel<'a>,
     /// The sample's index in the sequence, bits reversed; `None` past [`SOBOL_SAMPLES`].
     index_rev: Option<u32>,
-    /// The numbers of the pair of 4-dimensional sets `loaded` (from the start, pair 0: the
-    /// camera's set and that of bounces 0 and 1).
-    numbers: [u32; 8],
-    loaded: u32,
-    /// The pair loaded before `loaded`, kept: a path that aims at lights switches between
-    /// its bounce's pair and its light's at every hit, and swaps them back instead of
-    /// recomputing either.
-    spare: ([u32; 8], u32),
-    /// The current use's next lane in `numbers`, and the end of its lanes.
+    /// The pair of 4-dimensional sets each kind of use last needed, and its number (from the
+    /// start, pair 0 in the bounces' slot: the camera's set and that of bounces 0 and 1). A
+    /// path that aims at lights switches between its bounce's pair, its light sample's and its
+    /// aims through glass at every hit: a slot each, so none recomputes another's.
+    slots: [([u32; 8], u32); SLOTS],
+    /// The slot the current use reads, its next lane, and the end of its lanes.
+    slot: usize,
     next: usize,
     end: usize,
     fallback: Fallback,
 }
+
+/// The kinds of use, each with its slot of [`SobolStream::slots`]: bounces (and the camera),
+/// light samples, aims through glass.
+const SLOTS: usize = 3;
+const BOUNCES: usize = 0;
+const LIGHTS: usize = 1;
+const AIMS: usize = 2;
 
 /// The independent numbers a Sobol stream falls back to, seeded only if it ever needs them
 /// (most samples never do).
@@ -210,30 +232,25 @@ struct Fallback {
 }
 
 impl SobolStream<'_> {
-    /// The next numbers are `dimensions` of 4-dimensional set `set`, computed with the other
-    /// set of its pair if that pair is not the one loaded. Past the sequence's samples, they
+    /// The next numbers are `dimensions` of 4-dimensional set `set`, read from `slot`, whose
+    /// pair of sets is computed first if it is not `set`'s. Past the sequence's samples, they
     /// are independent numbers.
     #[inline(always)]
-    fn use_dimensions(&mut self, set: u32, dimensions: std::ops::Range<usize>) {
+    fn use_dimensions(&mut self, slot: usize, set: u32, dimensions: std::ops::Range<usize>) {
         let Some(index_rev) = self.index_rev else { return };
-        if self.loaded != set / 2 {
-            self.load(index_rev, set / 2);
+        if self.slots[slot].1 != set / 2 {
+            self.load(index_rev, slot, set / 2);
         }
         let lane = 4 * (set % 2) as usize;
-        (self.next, self.end) = (lane + dimensions.start, lane + dimensions.end);
+        (self.slot, self.next, self.end) = (slot, lane + dimensions.start, lane + dimensions.end);
     }
 
-    /// Computes the pair of sets `pair`. Out of line, so that a bounce whose set is already
-    /// loaded (every bounce but 2, 6, 10, …) pays for a comparison, not for saving the
+    /// Computes the pair of sets `pair` into `slot`. Out of line, so that a use whose pair is
+    /// already there (a bounce but for 2, 6, 10, …) pays for a comparison, not for saving the
     /// registers this needs.
     #[inline(never)]
-    fn load(&mut self, index_rev: u32, pair: u32) {
-        std::mem::swap(&mut self.numbers, &mut self.spare.0);
-        std::mem::swap(&mut self.loaded, &mut self.spare.1);
-        if self.loaded != pair {
-            self.numbers = self.pixel.pair(index_rev, pair);
-            self.loaded = pair;
-        }
+    fn load(&mut self, index_rev: u32, slot: usize, pair: u32) {
+        self.slots[slot] = (self.pixel.pair(index_rev, pair), pair);
     }
 
     fn fallback(&mut self) -> &mut SplitMix64 {
@@ -242,14 +259,15 @@ impl SobolStream<'_> {
     }
 }
 
-/// No pair of sets (the spare slot before it holds one).
+/// No pair of sets (a slot before its first use).
 const NO_PAIR: u32 = u32::MAX;
 
 /// The first dimension set of the light samples: bounce `b` aims at a light with the four
 /// dimensions of set `LIGHT_SETS + b`, far from every bounce's set (`1 + b/2`), so the choice
 /// of a light and the point on it are spread evenly over a pixel's samples and correlate with
-/// nothing else the path draws. Switching between a bounce's set and its light's recomputes a
-/// pair of sets (about 100 instructions), paid only in scenes with lights.
+/// nothing else the path draws. Light samples keep their pair in a slot of their own
+/// ([`SobolStream::slots`]), computed every other bounce (about 100 instructions), only in
+/// scenes with lights.
 const LIGHT_SETS: u32 = 1 << 16;
 
 /// The first dimension set of the samples aimed at a light through a glass ball: a path's aim
@@ -260,15 +278,15 @@ const CAUSTIC_SETS: u32 = 1 << 17;
 impl SampleRng for SobolStream<'_> {
     fn bounce(&mut self, bounce: u32) {
         let first = 2 * (bounce % 2) as usize;
-        self.use_dimensions(1 + bounce / 2, first..first + 2);
+        self.use_dimensions(BOUNCES, 1 + bounce / 2, first..first + 2);
     }
 
     fn light(&mut self, bounce: u32) {
-        self.use_dimensions(LIGHT_SETS + bounce, 0..4);
+        self.use_dimensions(LIGHTS, LIGHT_SETS + bounce, 0..4);
     }
 
     fn caustic(&mut self, aim: u32) {
-        self.use_dimensions(CAUSTIC_SETS + aim, 0..4);
+        self.use_dimensions(AIMS, CAUSTIC_SETS + aim, 0..4);
     }
 
     /// Point `sample × of + spot` of a 2-dimensional Owen-scrambled Sobol sequence of the
@@ -294,7 +312,7 @@ impl rand::TryRng for SobolStream<'_> {
     /// or an independent one once they are used up.
     fn try_next_u32(&mut self) -> Result<u32, Self::Error> {
         if self.next < self.end {
-            let v = self.numbers[self.next];
+            let v = self.slots[self.slot].0[self.next];
             self.next += 1;
             Ok(v)
         } else {
