@@ -138,9 +138,9 @@ const VARIANTS: [Variant; 11] = [
 
 /// The lit scene's table: how each way of finding the lights costs per sample (the error
 /// each reaches is `results/error.md`'s).
-const LIT_VARIANTS: [Variant; 4] = [
+const LIT_VARIANTS: [Variant; 5] = [
     Variant {
-        name: "default: light sampling mis (a shadow ray at every diffuse hit)",
+        name: "default: light sampling mis (a shadow ray at every diffuse hit, by a chance at dim ones; 16 edge points)",
         kind: "reference",
         scene: |s| s,
         settings: |s| s,
@@ -168,6 +168,14 @@ const LIT_VARIANTS: [Variant; 4] = [
         kind: "unbiased: other noise",
         scene: |s| s,
         settings: |s| RenderSettings { roulette: true, ..s },
+        streams: per_sample,
+        rounds: 3,
+    },
+    Variant {
+        name: "no edge points (`--edge-spots 0`: the light's edge pixels count the camera ray's own hit)",
+        kind: "unbiased: other noise",
+        scene: |s| s,
+        settings: |s| RenderSettings { edge_spots: 0, ..s },
         streams: per_sample,
         rounds: 3,
     },
