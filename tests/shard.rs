@@ -56,9 +56,16 @@ fn whole_and_merged_with(
 #[test]
 fn merged_parts_equal_the_one_process_render_for_1_3_and_7_shards() {
     let modes = ["serial", "static", "interleaved", "pool-rows", "pool", "steal"];
-    for (n, tile, scene) in [(1, "16", "final"), (3, "16", "final"), (7, "9", "paper2"), (3, "64", "paper1")]
-    {
-        let dir = scratch(&format!("merge-{n}-{tile}"));
+    // `cornell`: a lit scene, its light's edge pixels taking edge points (`render/edges.rs`).
+    let cases = [
+        (1, "16", "final"),
+        (3, "16", "final"),
+        (7, "9", "paper2"),
+        (3, "64", "paper1"),
+        (3, "8", "cornell"),
+    ];
+    for (n, tile, scene) in cases {
+        let dir = scratch(&format!("merge-{n}-{tile}-{scene}"));
         let (whole, merged) = whole_and_merged(&dir, scene, n, tile, &modes);
         assert!(whole == merged, "{n} shards of {tile}-pixel tiles ({scene}): merged image differs");
     }
