@@ -7,10 +7,10 @@
 //! - `mixture`: the bounce drawn half the time towards a light ([`mixture_bounce`]) and
 //!   weighted by the mixture's density `½·p_light + ½·cos/π`, so the estimate stays unbiased.
 //! - `mis`: a shadow ray to a light at every diffuse hit and every scattering in fog
-//!   ([`next_event`]; where the path carries little, by a chance, [`shadow_chance`]), and the material's
-//!   bounce as well; each of the two ways of finding a light is weighted by the power
-//!   heuristic ([`power_heuristic`]) against the other's density, so a light found both ways
-//!   is counted once, and never with more noise than the better of the two (Veach 1997).
+//!   ([`next_event`]; where the path carries little, by a chance, [`shadow_chance`]), and
+//!   the material's bounce as well; each of the two ways of finding a light is weighted by
+//!   the power heuristic ([`power_heuristic`]) against the other's density, so a light found
+//!   both ways is counted once, and never with more noise than the better of the two (Veach 1997).
 //!   In a scene with glass balls, a diffuse hit also aims at a light *through* a ball
 //!   ([`manifold`]: manifold next-event estimation, solved in [`passage`]), weighed the same
 //!   way against the bounce that crosses the ball and meets the light.
@@ -110,9 +110,9 @@ pub fn shadow_chance(carried: Vec3) -> Real {
 
 /// Next-event estimation: light arriving at `hit` (of a material that scatters by `lobe`)
 /// from a light sample, per unit albedo. One shadow ray towards a point drawn on a light's
-/// front, cast with probability `chance` ([`shadow_chance`]); if nothing stands between (no surface, no scattering in a medium
-/// on the way), the light's emission times the lobe's factor over the sample's density and
-/// the chance, weighted by the power heuristic against the lobe's density. The weight counts
+/// front, cast with probability `chance` ([`shadow_chance`]); if nothing stands between (no
+/// surface, no scattering in a medium on the way), the light's emission times the lobe's
+/// factor over the sample's density and the chance, weighted by the power heuristic against the lobe's density. The weight counts
 /// the light sample's density times the chance (the bounce that meets the light weighs it so
 /// too), so the two weights of a point still sum to 1. Counts the shadow ray in `rays`.
 #[inline]

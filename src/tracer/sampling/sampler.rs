@@ -6,11 +6,12 @@
 //! cannot change a single number it draws. [`RandomStreams`] hands out those streams, a pixel
 //! at a time; [`Sampler`] (`--sampler`) names the two real ones, each in a file of its own.
 
-use crate::tracer::math::real::Real;
-use crate::tracer::sampling::warp::uniform;
 use rand::Rng;
 use rand::rngs::SmallRng;
 use rand_xoshiro::SplitMix64;
+
+use crate::tracer::math::real::Real;
+use crate::tracer::sampling::warp::uniform;
 
 /// Which numbers pixel samples draw (`--sampler`): independent numbers
 /// ([`PerSample`](crate::tracer::sampling::independent::PerSample)) or Owen-scrambled Sobol
@@ -66,7 +67,7 @@ pub trait SampleRng: Rng {
     }
 
     /// A point in the pixel, two numbers in `[0, 1)`: the `spot`-th of the `of` extra points
-    /// this pixel sample takes to see the lights' edges (`render.rs`). A low-discrepancy
+    /// this pixel sample takes to see the lights' edges (`render/edges.rs`). A low-discrepancy
     /// sampler takes them from a sequence of their own, `of` points per sample, so that the
     /// first `n` samples' points fill the pixel as `n × of` samples would; others draw two
     /// more numbers.

@@ -108,7 +108,7 @@ impl RandomStreams for SobolStreams {
 /// samples of bounces 0 to 3, and aims 0 to 9 through glass (a path's first hit takes up to
 /// eight): more than almost every path uses. Others are made for each sample that needs them.
 const KEPT: [(u32, u32); 3] = [(0, 2), (LIGHT_SETS / 2, 2), (CAUSTIC_SETS / 2, 5)];
-const KEPT_PAIRS: usize = 9;
+const KEPT_PAIRS: usize = (KEPT[0].1 + KEPT[1].1 + KEPT[2].1) as usize;
 
 /// Where pair `pair`'s keys are kept, if they are.
 #[inline]
