@@ -279,6 +279,7 @@ fn a_shadow_ray_cast_by_chance_counts_one_over_its_chance() {
     // about a fifth of the shadow rays.
     use raypool::tracer::geometry::hit::Hit;
     use raypool::tracer::lighting::next_event;
+    use raypool::tracer::sampling::warp::uniform;
     use raypool::tracer::shading::material::Lobe;
     let scene = raypool::scenes::builtin::builtin_scene("cornell", 0).unwrap().to_scene();
     let floor = Hit {
@@ -298,7 +299,16 @@ fn a_shadow_ray_cast_by_chance_counts_one_over_its_chance() {
         let values: Vec<f64> = (0..n)
             .map(|_| {
                 f64::from(
-                    next_event(&scene, &floor, Lobe::Cosine, Probe::default(), chance, &mut rng, &mut rays).x,
+                    next_event(
+                        &scene,
+                        &floor,
+                        Lobe::Cosine,
+                        Probe::default(),
+                        (uniform(&mut rng), chance),
+                        &mut rng,
+                        &mut rays,
+                    )
+                    .x,
                 )
             })
             .collect();

@@ -63,20 +63,19 @@ pub fn points(bounce: u32, near: bool) -> u32 {
 const FIRST_POINTS: u32 = 8;
 
 /// Light arriving at a diffuse `hit` through one of the scene's casters, per unit albedo (as
-/// [`super::next_event`]'s), taken with probability `chance` (a coin, the light sample's
-/// last number) and divided by it; then [`points`] aims, each with four draws in its own
-/// dimensions (the caster, the light, a point on it), numbered along the path. Counts its
-/// shadow rays in `rays`.
+/// [`super::next_event`]'s), taken with probability `chance` (where `coin`, the one the
+/// shadow ray's chance is drawn against, falls below it) and divided by it; then [`points`]
+/// aims, each with four draws in its own dimensions (the caster, the light, a point on it),
+/// numbered along the path. Counts its shadow rays in `rays`.
 pub fn manifold_event<R: SampleRng + ?Sized>(
     scene: &Scene,
     hit: &Hit,
-    (bounce, chance): (u32, Real),
+    (bounce, coin, chance): (u32, Real, Real),
     probe: Probe,
     rng: &mut R,
     rays: &mut u64,
 ) -> Vec3 {
-    // The coin is the light sample's last number; the rest have their own dimensions.
-    if uniform(rng) >= chance || !may_focus(scene, hit.departure()) {
+    if coin >= chance || !may_focus(scene, hit.departure()) {
         return Vec3::ZERO;
     }
     // Aims are numbered along the path: the first hit's, then one per bounce.

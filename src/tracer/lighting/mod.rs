@@ -110,24 +110,24 @@ pub fn shadow_chance(carried: Vec3) -> Real {
 
 /// Next-event estimation: light arriving at `hit` (of a material that scatters by `lobe`)
 /// from a light sample, per unit albedo. One shadow ray towards a point drawn on a light's
-/// front, cast with probability `chance` ([`shadow_chance`]); if nothing stands between (no
-/// surface, no scattering in a medium on the way), the light's emission times the lobe's
-/// factor over the sample's density and the chance, weighted by the power heuristic against the lobe's density. The weight counts
-/// the light sample's density times the chance (the bounce that meets the light weighs it so
-/// too), so the two weights of a point still sum to 1. Counts the shadow ray in `rays`.
+/// front, cast with probability `chance` ([`shadow_chance`]: where `coin`, uniform in
+/// `[0, 1)`, falls below it); if nothing stands between (no surface, no scattering in a
+/// medium on the way), the light's emission times the lobe's factor over the sample's density
+/// and the chance, weighted by the power heuristic against the lobe's density. The weight
+/// counts the light sample's density times the chance (the bounce that meets the light weighs
+/// it so too), so the two weights of a point still sum to 1. Counts the shadow ray in `rays`.
 #[inline]
 pub fn next_event<R: SampleRng + ?Sized>(
     scene: &Scene,
     hit: &Hit,
     lobe: Lobe,
     probe: Probe,
-    chance: Real,
+    (coin, chance): (Real, Real),
     rng: &mut R,
     rays: &mut u64,
 ) -> Vec3 {
-    // The coin first (the light sample's first number, as the mixture's): a skipped shadow
-    // ray draws no light point either.
-    if uniform(rng) >= chance {
+    // A skipped shadow ray draws no light point either.
+    if coin >= chance {
         return Vec3::ZERO;
     }
     let lights = scene.lights();

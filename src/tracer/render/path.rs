@@ -107,15 +107,18 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
                 LightSampling::Mis if cast < settings.max_depth => {
                     let shadow = Probe { medium_seed: medium_seed ^ SHADOW_KEY, ..start };
                     let carried = throughput * scatter.attenuation;
-                    let aim = shadow_chance(carried);
-                    let direct = next_event(scene, &hit, lobe, shadow, aim, rng, rays);
+                    // One coin, the light sample's first number, for the shadow ray and the
+                    // aims through glass: each is taken where it falls below its own chance.
+                    let (coin, aim) = (uniform(rng), shadow_chance(carried));
+                    let direct = next_event(scene, &hit, lobe, shadow, (coin, aim), rng, rays);
                     radiance += carried * direct;
                     let bsdf_pdf = lobe_pdf(lobe, scatter.direction, hit.normal);
                     weighed = Some((hit.departure(), bsdf_pdf, aim));
                     if caustics && lobe == Lobe::Cosine && cast + manifold::RAYS <= settings.max_depth {
                         // Fewer solves where the path carries little (`lighting/manifold.rs`).
                         let chance = (2.0 * carried.max_element()).min(1.0);
-                        let focused = manifold_event(scene, &hit, (cast - 1, chance), shadow, rng, rays);
+                        let focused =
+                            manifold_event(scene, &hit, (cast - 1, coin, chance), shadow, rng, rays);
                         radiance += carried * focused;
                         let taken = (cast - 1, chance);
                         passing =
