@@ -5,6 +5,9 @@
 //! `render_tile` on which tile; none of them has a render loop of its own. Because a pixel's
 //! value depends only on the scene, the settings and its own random streams (see
 //! `sampling/`), the image is bit-identical whatever the schedule.
+//!
+//! Two parts live beside it: [`path`], one sample's path (the book's `ray_color`), and
+//! [`edges`], the extra camera points a sample takes where its pixel may see a light.
 
 pub mod edges;
 pub mod path;

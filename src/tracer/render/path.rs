@@ -44,9 +44,9 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
     // Where the lights are sampled (a second-book scene with lights, and not `bsdf`).
     let aiming =
         if WORLD && !scene.lights().is_empty() { settings.light_sampling } else { LightSampling::Bsdf };
-    // The previous hit's point and its material's density for the bounce that led here, if
-    // that bounce was weighed against a light sample (MIS): an emitter it reaches is then
-    // weighted by the power heuristic. Otherwise an emitter counts whole.
+    // The previous hit's point, its material's density for the bounce that led here and the
+    // chance its shadow ray had, if that bounce was weighed against a light sample (MIS): an
+    // emitter it reaches is then weighted by the power heuristic. Otherwise it counts whole.
     let mut weighed: Option<(Vec3, Real, Real)> = None;
     // Under `mis`, with glass balls and lights: each diffuse hit also aims at a light through
     // a ball (`lighting/manifold.rs`), and its bounce is followed through a ball to weigh a
