@@ -103,25 +103,11 @@ impl RandomStreams for SobolStreams {
     }
 }
 
-/// Which pairs of a pixel's dimension sets keep their keys for the pixel's next samples, as
-/// runs of pairs `(first, count)`: sets 0 to 3 (the camera's and bounces 0 to 5), the light
-/// samples of bounces 0 to 3, and aims 0 to 9 through glass (a path's first hit takes up to
-/// eight): more than almost every path uses. Others are made for each sample that needs them.
-const KEPT: [(u32, u32); 3] = [(0, 2), (LIGHT_SETS / 2, 2), (CAUSTIC_SETS / 2, 5)];
-const KEPT_PAIRS: usize = (KEPT[0].1 + KEPT[1].1 + KEPT[2].1) as usize;
-
-/// Where pair `pair`'s keys are kept, if they are.
-#[inline]
-fn kept_at(pair: u32) -> Option<usize> {
-    let mut at = 0;
-    for (first, count) in KEPT {
-        if (first..first + count).contains(&pair) {
-            return Some(at + (pair - first) as usize);
-        }
-        at += count as usize;
-    }
-    None
-}
+/// How many pairs of a pixel's dimension sets keep their keys for the pixel's next samples:
+/// sets 0 to 3, the camera's and those of bounces 0 to 5, more than almost every path uses.
+/// (Keeping the first light samples' and aims' keys too gave `cornell` about 1% and cost
+/// `paper1`, whose pixels take few short samples, 2%: paired, 9 pairs each.)
+const KEPT_PAIRS: usize = 2;
 
 /// One pixel's Sobol streams: its scramble seed and, made the first time a sample needs them,
 /// the keys of its first dimension sets, which every later sample of the pixel reuses. A key
@@ -135,7 +121,7 @@ pub struct SobolPixel<'a> {
     fallback: (PerSample, u64),
     keys: [Cell<PairKeys>; KEPT_PAIRS],
     /// Bit `k` set: `keys[k]` is made.
-    made: Cell<u16>,
+    made: Cell<u8>,
 }
 
 impl SobolPixel<'_> {
@@ -153,13 +139,12 @@ impl SobolPixel<'_> {
     }
 
     /// The keys of dimension sets `2 pair` and `2 pair + 1`, kept from an earlier sample if
-    /// they are among those [`KEPT`].
+    /// they are among the first.
     #[inline]
     fn keys(&self, pair: u32) -> PairKeys {
         let make = || PairKeys::new([0, 1].map(|k| mix(self.seed ^ u64::from(2 * pair + k)) as u32));
-        let Some(at) = kept_at(pair) else { return make() };
-        let kept = &self.keys[at];
-        let bit = 1 << at;
+        let Some(kept) = self.keys.get(pair as usize) else { return make() };
+        let bit = 1 << pair;
         if self.made.get() & bit == 0 {
             kept.set(make());
             self.made.set(self.made.get() | bit);
