@@ -35,6 +35,12 @@ pub mod view;
 #[doc = include_str!("../README.md")]
 mod readme {}
 
+/// The book's chapter on the course (`docs/src/course.md`): its Rust, a student's scheduler
+/// and its conformance check, compiled and run by `cargo test --doc` as the README's is.
+#[cfg(doctest)]
+#[doc = include_str!("../docs/src/course.md")]
+mod book_course {}
+
 pub use error::Error;
 pub use files::image::Image;
 pub use scenes::format::SceneFile;
