@@ -269,6 +269,40 @@ fn no_source_file_is_longer_than_one_sitting() {
     }
 }
 
+/// The book's chapter that maps the code: it must name every folder of either crate and every
+/// room of the tracer, so that the map cannot go stale.
+const MAP: &str = "docs/src/architecture.md";
+
+/// Every folder under `dir` (itself included), as paths from the workspace's root ending in `/`.
+fn folders(dir: &Path, out: &mut Vec<String>) {
+    let from_root = dir.strip_prefix(root("")).unwrap().to_string_lossy().into_owned();
+    out.push(format!("{from_root}/"));
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            folders(&path, out);
+        }
+    }
+}
+
+#[test]
+fn the_book_names_every_folder_and_room() {
+    let map = std::fs::read_to_string(root(MAP)).unwrap();
+    let mut named = Vec::new();
+    for crate_src in ["src", "pool/src"] {
+        folders(&root(crate_src), &mut named);
+    }
+    let mut missing: Vec<String> =
+        named.into_iter().filter(|folder| !map.contains(&format!("`{folder}`"))).collect();
+    for room in TRACER_ROOMS {
+        let (folder, file) = (format!("`src/tracer/{room}/`"), format!("`src/tracer/{room}.rs`"));
+        if !map.contains(&folder) && !map.contains(&file) {
+            missing.push(format!("the tracer's room {room}"));
+        }
+    }
+    assert!(missing.is_empty(), "{MAP} does not name {missing:?}: add each to its map, with its idea");
+}
+
 #[test]
 fn the_checker_sees_an_upward_import_a_later_room_a_viewer_reaching_the_command_line_and_a_cycle() {
     // The checks above pass only if they can fail: feed them a made-up tree.
