@@ -1,8 +1,10 @@
 //! Golden images: every built-in scene, under both samplers (and `final` with roulette and
-//! adaptive sampling), renders to exactly the bytes it rendered to before issue #34 moved the
-//! tracer into rooms. The hashes in `tests/golden/images.sha256` were written by the `raypool`
-//! binary of commit 5e09953; a change that was meant to move no pixel (a refactor, a new kind
-//! of object that sphere scenes do not use) must leave every one of them as it is.
+//! adaptive sampling), renders to exactly the bytes it rendered to when its hash was last
+//! blessed. The hashes in `tests/golden/images.sha256` were first written by the `raypool`
+//! binary of commit 5e09953; the lit scenes' have been re-blessed since, each for a deliberate
+//! change of their bits, listed with its reason in `tests/golden/BLESSINGS.md`. A change that
+//! was meant to move no pixel (a refactor, a new kind of object that sphere scenes do not use)
+//! must leave every one of them as it is.
 //!
 //! The bits are those of the default f32 build on x86-64 (the f64 build's differ by design);
 //! after a deliberate change of image bits, `RAYPOOL_BLESS=1 cargo test --release --test

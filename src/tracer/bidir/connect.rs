@@ -276,6 +276,7 @@ impl Bidir<'_> {
         *rays += 1;
         let Some(hit) = &from.hit else { return true };
         let seed = mix(start.medium_seed ^ CONNECT_KEY ^ ((key.0 as u64) << 32 | key.1 as u64));
-        !self.scene.occluded(&hit.spawn(dir), 0.999 * distance, &Probe { medium_seed: seed, ..start })
+        let (shadow, reach) = Ray::towards(hit.spawn(dir).origin, hit.point + distance * dir);
+        !self.scene.occluded(&shadow, reach, &Probe { medium_seed: seed, ..start })
     }
 }

@@ -179,28 +179,20 @@ fn through(
     if bounce <= 0.0 {
         return 0.0;
     }
-    // The three pieces, each up to its end less a thousandth (the ball's own surface ends the
-    // first two, the light the third); each a medium's own numbers.
+    // The three pieces, each from just off the surface it leaves to just short of the one it
+    // meets (the ball's own surface ends the first two, the light the third); each a
+    // medium's own numbers.
     let offset = ball.sphere.spawn_offset();
     let center = ball.sphere.center;
     let pieces = [
-        (hit.spawn(dir), passage.entry - from),
-        (
-            Ray {
-                origin: passage.entry + offset * (center - passage.entry).normalize(),
-                dir: passage.inside,
-            },
-            passage.exit - passage.entry,
-        ),
-        (
-            Ray { origin: passage.exit + offset * (passage.exit - center).normalize(), dir: passage.out },
-            light.point - passage.exit,
-        ),
+        Ray::towards(hit.spawn(dir).origin, passage.entry),
+        Ray::towards(passage.entry + offset * (center - passage.entry).normalize(), passage.exit),
+        Ray::towards(passage.exit + offset * (passage.exit - center).normalize(), light.point),
     ];
-    for (key, (ray, span)) in (1u64..).zip(pieces) {
+    for (key, (ray, reach)) in (1u64..).zip(pieces) {
         *rays += 1;
         let own = Probe { medium_seed: probe.medium_seed ^ key.wrapping_mul(PIECE_KEY), ..probe };
-        if scene.occluded(&ray, 0.999 * span.length(), &own) {
+        if scene.occluded(&ray, reach, &own) {
             return 0.0;
         }
     }

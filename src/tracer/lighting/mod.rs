@@ -26,6 +26,7 @@ pub mod manifold;
 pub mod passage;
 
 use crate::tracer::geometry::hit::Hit;
+use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::sampling::warp::uniform;
@@ -137,9 +138,10 @@ pub fn next_event<R: SampleRng + ?Sized>(
         return Vec3::ZERO;
     }
     *rays += 1;
-    // Visible if nothing stands between, up to the light's point less a thousandth (for the
-    // spawn offset and rounding): any blocker will do, so the search ends at the first.
-    if scene.occluded(&hit.spawn(toward.dir), 0.999 * toward.distance, &probe) {
+    // Visible if nothing stands between, up to just short of the light's point: any
+    // blocker will do, so the search ends at the first.
+    let (shadow, reach) = Ray::towards(hit.spawn(toward.dir).origin, toward.point);
+    if scene.occluded(&shadow, reach, &probe) {
         return Vec3::ZERO;
     }
     // Weighed as a bounce that met this point would weigh it (`render.rs`), so the two

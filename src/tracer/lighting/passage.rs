@@ -27,6 +27,8 @@
 //! differences as `bidir/chain.rs` measures its chains (here without casting rays: the
 //! passage has a closed form, [`Ball::pass`]).
 
+use glam::DVec3;
+
 use crate::tracer::math::real::{Real, Real4, Vec3};
 use crate::tracer::world::casters::{Ball, Passage};
 
@@ -354,19 +356,51 @@ fn close_in(
 /// assert!((density - 1.0 / 64.0).abs() < 1e-3 / 64.0);
 /// ```
 pub fn bounce_density(ball: &Ball, from: Vec3, dir: Vec3, pdf: Real, at: Vec3, normal: Vec3) -> Real {
-    let land = |dir: Vec3| {
-        let passage = ball.pass(from, dir)?;
-        let t = (at - passage.exit).dot(normal) / passage.out.dot(normal);
-        (t > 0.0 && t.is_finite()).then(|| (passage.exit + t * passage.out, passage.transmitted))
-    };
+    let Some(taken) = ball.pass(from, dir) else { return 0.0 };
+    // In double precision: from a point near the glass (the floor round the ball's foot) a
+    // turn of a thousandth moves the entry by less than an `f32` resolves at the scene's
+    // size, and the spread came out wrong (`results/accuracy.md`).
+    let (from, dir, at, normal) = (wide(from), wide(dir), wide(at), wide(normal));
+    let land = |dir: DVec3| land(ball, from, dir, (at, normal));
     let (u, v) = dir.any_orthonormal_pair();
-    let turned = |a: Real, b: Real| land((dir + a * u + b * v).normalize());
-    let (Some((centre, transmitted)), Some((along_u, _)), Some((along_v, _))) =
-        (land(dir), turned(STEP, 0.0), turned(0.0, STEP))
+    let turned = |a: f64, b: f64| land((dir + a * u + b * v).normalize());
+    let step = f64::from(STEP);
+    let (Some(centre), Some(along_u), Some(along_v)) = (land(dir), turned(step, 0.0), turned(0.0, step))
     else {
         return 0.0;
     };
-    let spread = (along_u - centre).cross(along_v - centre).length() / (STEP * STEP);
-    let density = pdf * transmitted / spread;
+    let spread = (along_u - centre).cross(along_v - centre).length() / (step * step);
+    let density = pdf * taken.transmitted / spread as Real;
     if density.is_finite() { density } else { 0.0 }
+}
+
+/// A vector in double precision.
+fn wide(v: Vec3) -> DVec3 {
+    DVec3::new(v.x.into(), v.y.into(), v.z.into())
+}
+
+/// Where the ray from `from` along the unit `dir` lands on the plane through `at` with unit
+/// `normal` after passing through `ball`: [`Ball::pass`] in double precision, for
+/// [`bounce_density`]'s differences.
+fn land(ball: &Ball, from: DVec3, dir: DVec3, (at, normal): (DVec3, DVec3)) -> Option<DVec3> {
+    let (center, radius, ior) =
+        (wide(ball.sphere.center), f64::from(ball.sphere.radius), f64::from(ball.ior));
+    let refract = |v: DVec3, n: DVec3, eta: f64| {
+        let cos = (-v).dot(n).min(1.0);
+        let perp = eta * (v + cos * n);
+        let k = 1.0 - perp.length_squared();
+        (k >= 0.0).then(|| (perp - k.sqrt() * n).normalize())
+    };
+    let f = from - center;
+    let b = f.dot(dir);
+    let discriminant = radius * radius - (f - b * dir).length_squared();
+    if discriminant <= 0.0 || b >= 0.0 {
+        return None;
+    }
+    let entry = from + (-b - discriminant.sqrt()) * dir;
+    let inside = refract(dir, (entry - center) / radius, 1.0 / ior)?;
+    let exit = entry - 2.0 * (entry - center).dot(inside) * inside;
+    let out = refract(inside, (center - exit) / radius, ior)?;
+    let t = (at - exit).dot(normal) / out.dot(normal);
+    (t > 0.0 && t.is_finite()).then(|| exit + t * out)
 }
