@@ -95,7 +95,7 @@ fn scattering(c: &mut Criterion) {
     let materials = [
         ("lambertian", Material::Lambertian { albedo: Vec3::splat(0.5) }),
         ("metal", Material::Metal { albedo: Vec3::splat(0.8), fuzz: 0.3 }),
-        ("dielectric", Material::Dielectric { ior: 1.5 }),
+        ("dielectric", Material::glass(1.5)),
     ];
     let mut group = c.benchmark_group("scatter");
     group.throughput(Throughput::Elements(RAYS as u64));

@@ -141,10 +141,11 @@ fn every_relative_link_points_at_something_that_exists() {
                 let path = if file.is_empty() { doc.clone() } else { doc.parent().unwrap().join(file) };
                 if !path.exists() {
                     broken.push(format!("{}:{n}: {target}: no such file", shown(&doc)));
-                } else if !anchor.is_empty() && path.extension().is_some_and(|e| e == "md") {
-                    if !anchors(&path).iter().any(|a| a == anchor) {
-                        broken.push(format!("{}:{n}: {target}: no heading with that anchor", shown(&doc)));
-                    }
+                } else if !anchor.is_empty()
+                    && path.extension().is_some_and(|e| e == "md")
+                    && !anchors(&path).iter().any(|a| a == anchor)
+                {
+                    broken.push(format!("{}:{n}: {target}: no heading with that anchor", shown(&doc)));
                 }
             }
         }

@@ -2,9 +2,10 @@
 
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
+use raypool::scenes::format::SceneFile;
 use raypool::tracer::geometry::hit::Hit;
 use raypool::tracer::math::real::{Real, Vec3};
-use raypool::tracer::shading::material::{Material, reflect, refract, schlick};
+use raypool::tracer::shading::material::{Fresnel, Material, exact_fresnel, reflect, refract, schlick};
 use raypool::tracer::shading::texture::Textures;
 
 fn hit(normal: Vec3, front_face: bool) -> Hit {
@@ -57,13 +58,48 @@ fn total_internal_reflection_beyond_the_critical_angle() {
     let v = Vec3::new(0.8, -0.6, 0.0);
     assert_eq!(refract(v, n, 1.5), None);
     // The dielectric then always reflects.
-    let glass = Material::Dielectric { ior: 1.5 };
+    let glass = Material::glass(1.5);
     let mut rng = SmallRng::seed_from_u64(1);
     for _ in 0..100 {
         let s = glass.scatter(v, &hit(n, false), &Textures::default(), &mut rng).unwrap();
         assert!((s.direction - reflect(v, n)).length() < 1e-6);
         assert_eq!(s.attenuation, Vec3::ONE);
     }
+}
+
+/// The exact Fresnel equations against values worked by hand, their reciprocity, and the
+/// scene format's `fresnel = "exact"` (Mitsuba's and pbrt's glass, for references).
+#[test]
+fn exact_fresnel_matches_the_equations_and_scene_files_choose_it() {
+    // Glass of 1.5 at 45°: r⊥ = −0.3034, r∥ = 0.0920, R = (0.0920 + 0.0085) / 2 = 0.0503.
+    let cos45 = std::f64::consts::FRAC_1_SQRT_2 as Real;
+    assert!((exact_fresnel(cos45, 1.0 / 1.5) - 0.050_3).abs() < 2e-4, "{}", exact_fresnel(cos45, 1.0 / 1.5));
+    assert!((exact_fresnel(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6 && exact_fresnel(0.0, 1.0 / 1.5) == 1.0);
+    for i in 1..100 {
+        // The same reflectance from either side of one refraction (Schlick's is not), to f32
+        // rounding near grazing.
+        let cos_in = i as Real / 100.0;
+        let cos_out = (1.0 - (1.0 - cos_in * cos_in) / (1.5 * 1.5)).sqrt();
+        let (outside, inside) = (exact_fresnel(cos_in, 1.0 / 1.5), exact_fresnel(cos_out, 1.5));
+        assert!(
+            (outside - inside).abs() < 1e-4 && (0.0..=1.0).contains(&outside),
+            "{cos_in}: {outside} {inside}"
+        );
+    }
+    let glass = |fresnel: &str| {
+        let text = format!(
+            "[camera]\nlookfrom = [0.0, 0.0, 5.0]\nlookat = [0.0, 0.0, 0.0]\nvup = [0.0, 1.0, 0.0]\nvfov = 40.0\n\
+             [[sphere]]\ncenter = [0.0, 0.0, 0.0]\nradius = 1.0\nmaterial = {{ kind = \"dielectric\", ior = 1.5{fresnel} }}\n"
+        );
+        SceneFile::parse(&text, "glass.toml").map(|file| file.to_scene().materials()[0])
+    };
+    assert_eq!(glass("").unwrap(), Material::Dielectric { ior: 1.5, fresnel: Fresnel::Schlick });
+    assert_eq!(
+        glass(", fresnel = \"exact\"").unwrap(),
+        Material::Dielectric { ior: 1.5, fresnel: Fresnel::Exact }
+    );
+    let error = glass(", fresnel = \"fancy\"").unwrap_err().to_string();
+    assert!(error.starts_with("glass.toml:") && error.contains("fancy") && !error.contains('\n'), "{error}");
 }
 
 #[test]
@@ -87,8 +123,8 @@ fn every_material_scatters_to_unit_directions_on_the_right_side() {
         Material::Lambertian { albedo: Vec3::splat(0.5) },
         Material::Metal { albedo: Vec3::splat(0.8), fuzz: 0.3 },
         Material::Metal { albedo: Vec3::splat(0.8), fuzz: 7.0 }, // fuzz > 1 acts as 1
-        Material::Dielectric { ior: 1.5 },
-        Material::Dielectric { ior: 1.0 }, // no bending at all
+        Material::glass(1.5),
+        Material::glass(1.0), // no bending at all
     ];
     for m in materials {
         for k in 0..2000 {
@@ -104,7 +140,7 @@ fn every_material_scatters_to_unit_directions_on_the_right_side() {
             match m {
                 Material::Lambertian { .. } | Material::Metal { .. } => assert!(s.direction.dot(n) >= 0.0),
                 // ior 1 does not bend light; Schlick still reflects a little at grazing angles.
-                Material::Dielectric { ior: 1.0 } => assert!(
+                Material::Dielectric { ior: 1.0, .. } => assert!(
                     (s.direction - incoming).length() < 1e-4
                         || (s.direction - reflect(incoming, n)).length() < 1e-4
                 ),

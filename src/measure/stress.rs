@@ -118,7 +118,7 @@ fn grey() -> MaterialSpec {
 }
 
 fn glass() -> MaterialSpec {
-    MaterialSpec::Dielectric { ior: 1.5 }
+    MaterialSpec::glass(1.5)
 }
 
 fn camera(lookfrom: [f64; 3], lookat: [f64; 3], vfov: f64) -> CameraSettings {
@@ -186,7 +186,7 @@ pub fn cases() -> Vec<StressCase> {
             vec![sphere([0.0; 3], 1.0, glass()), sphere([0.0; 3], -0.9, glass())],
         ),
         ("glass inside glass", vec![sphere([0.0; 3], 1.0, glass()), sphere([0.2, 0.1, 0.0], 0.4, glass())]),
-        ("glass of ior 1", vec![sphere([0.0; 3], 1.0, MaterialSpec::Dielectric { ior: 1.0 })]),
+        ("glass of ior 1", vec![sphere([0.0; 3], 1.0, MaterialSpec::glass(1.0))]),
     ] {
         cases.push(case(name, under_white_sky(eye.clone(), spheres), 1.0, 1.0, (40, 8, 200)));
     }
@@ -198,7 +198,7 @@ pub fn cases() -> Vec<StressCase> {
         ("degenerate: fuzz 5 (acts as 1)", MaterialSpec::Metal { albedo: [0.8; 3], fuzz: 5.0 }),
         ("degenerate: black albedo", MaterialSpec::lambertian([0.0; 3])),
         ("degenerate: albedo above 1", MaterialSpec::lambertian([1.5; 3])),
-        ("degenerate: ior 1e-3", MaterialSpec::Dielectric { ior: 1e-3 }),
+        ("degenerate: ior 1e-3", MaterialSpec::glass(1e-3)),
     ] {
         let floor = sphere([0.0, -101.0, 0.0], 100.0, MaterialSpec::Metal { albedo: [0.9; 3], fuzz: 1.0 });
         let scene = under_white_sky(eye.clone(), vec![sphere([0.0; 3], 1.0, material), floor]);

@@ -141,12 +141,12 @@ pub fn final_scene(scene_seed: u64) -> SceneFile {
                     [round4(0.5 + 0.5 * rand()), round4(0.5 + 0.5 * rand()), round4(0.5 + 0.5 * rand())];
                 MaterialSpec::Metal { albedo, fuzz: round4(0.5 * rand()) }
             } else {
-                MaterialSpec::Dielectric { ior: 1.5 }
+                MaterialSpec::glass(1.5)
             };
             spheres.push(sphere(center, 0.2, material));
         }
     }
-    spheres.push(sphere([0.0, 1.0, 0.0], 1.0, MaterialSpec::Dielectric { ior: 1.5 }));
+    spheres.push(sphere([0.0, 1.0, 0.0], 1.0, MaterialSpec::glass(1.5)));
     spheres.push(sphere([-4.0, 1.0, 0.0], 1.0, MaterialSpec::lambertian([0.4, 0.2, 0.1])));
     spheres.push(sphere([4.0, 1.0, 0.0], 1.0, MaterialSpec::Metal { albedo: [0.7, 0.6, 0.5], fuzz: 0.0 }));
     let camera = CameraSettings {
@@ -198,7 +198,7 @@ pub fn next_week_scene(scene_seed: u64) -> SceneFile {
     let mut scene = SceneFile::new(camera, BackgroundSpec::Black);
     scene.materials.insert("ground".into(), MaterialSpec::lambertian([0.48, 0.83, 0.53]));
     scene.materials.insert("white".into(), MaterialSpec::lambertian([0.73; 3]));
-    scene.materials.insert("glass".into(), MaterialSpec::Dielectric { ior: 1.5 });
+    scene.materials.insert("glass".into(), MaterialSpec::glass(1.5));
     for i in 0..20 {
         for j in 0..20 {
             let (x0, z0) = (-1000.0 + i as f64 * 100.0, -1000.0 + j as f64 * 100.0);

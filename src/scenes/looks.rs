@@ -10,7 +10,7 @@ use serde::{Deserialize, Deserializer, Serialize};
 use crate::scenes::assets::Assets;
 use crate::scenes::checks::{REAL, check, colour, representable};
 use crate::tracer::math::real::{Real, vec3};
-use crate::tracer::shading::material::Material;
+use crate::tracer::shading::material::{Fresnel, Material};
 use crate::tracer::shading::perlin::Perlin;
 use crate::tracer::shading::texture::{NOISE_SEED, Texture, Textures};
 
@@ -39,6 +39,10 @@ pub enum MaterialSpec {
     Dielectric {
         /// Refractive index, > 0.
         ior: f64,
+        /// `"schlick"` (the books' approximation, the default) or `"exact"` (the Fresnel
+        /// equations, as pbrt and Mitsuba).
+        #[serde(default, skip_serializing_if = "is_schlick")]
+        fresnel: FresnelSpec,
     },
     /// A light: emits `emit` from its front face.
     DiffuseLight {
@@ -50,7 +54,27 @@ pub enum MaterialSpec {
     },
 }
 
+/// How glass computes its reflectance, as written: `fresnel = "schlick" | "exact"`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FresnelSpec {
+    /// Schlick's approximation (the books').
+    #[default]
+    Schlick,
+    /// The Fresnel equations.
+    Exact,
+}
+
+fn is_schlick(fresnel: &FresnelSpec) -> bool {
+    *fresnel == FresnelSpec::Schlick
+}
+
 impl MaterialSpec {
+    /// Glass of index `ior` with the books' Schlick reflectance.
+    pub fn glass(ior: f64) -> MaterialSpec {
+        MaterialSpec::Dielectric { ior, fresnel: FresnelSpec::Schlick }
+    }
+
     /// A plain diffuse colour.
     pub fn lambertian(albedo: [f64; 3]) -> MaterialSpec {
         MaterialSpec::Lambertian { albedo: Some(albedo), texture: None }
@@ -161,7 +185,7 @@ impl Looks<'_> {
                     format!("fuzz must be finite (as {REAL}) and ≥ 0, got {fuzz}")
                 })
             }
-            MaterialSpec::Dielectric { ior } => check(representable(*ior) && *ior > 0.0, || {
+            MaterialSpec::Dielectric { ior, .. } => check(representable(*ior) && *ior > 0.0, || {
                 format!("ior must be finite (as {REAL}) and > 0, got {ior}")
             }),
             MaterialSpec::DiffuseLight { emit, albedo } => {
@@ -238,7 +262,13 @@ impl Tables {
             MaterialSpec::Metal { albedo, fuzz } => {
                 Material::Metal { albedo: vec3(*albedo), fuzz: *fuzz as Real }
             }
-            MaterialSpec::Dielectric { ior } => Material::Dielectric { ior: *ior as Real },
+            MaterialSpec::Dielectric { ior, fresnel } => {
+                let fresnel = match fresnel {
+                    FresnelSpec::Schlick => Fresnel::Schlick,
+                    FresnelSpec::Exact => Fresnel::Exact,
+                };
+                Material::Dielectric { ior: *ior as Real, fresnel }
+            }
             MaterialSpec::DiffuseLight { emit, albedo } => {
                 Material::DiffuseLight { emit: vec3(*emit), albedo: *albedo as Real }
             }

@@ -105,7 +105,7 @@ fn follow(
         let side = |p: Vec3| (p - vertex.point).dot(vertex.normal) > 0.0;
         let refracted = side(before) != side(after);
         let out = match *scene.material(&hit) {
-            Material::Dielectric { ior } if refracted => {
+            Material::Dielectric { ior, .. } if refracted => {
                 refract(ray.dir, hit.normal, if hit.front_face { 1.0 / ior } else { ior })?
             }
             Material::Dielectric { .. } | Material::Metal { .. } => reflect(ray.dir, hit.normal).normalize(),

@@ -19,7 +19,7 @@ use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::independent::mix;
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::scene::Scene;
-use crate::tracer::shading::material::{Material, schlick};
+use crate::tracer::shading::material::Material;
 use crate::tracer::world::object::Probe;
 
 /// Which way a walk goes.
@@ -132,12 +132,12 @@ fn link(
 /// `out`): the camera's chance of refracting the other way, over the light path's own
 /// (Schlick's reflectance is taken at the angle on the arriving side); 1 otherwise.
 fn refraction_reweight(material: &Material, incoming: Vec3, hit: &Hit, out: Vec3) -> Real {
-    let Material::Dielectric { ior } = *material else { return 1.0 };
+    let Material::Dielectric { ior, fresnel } = *material else { return 1.0 };
     if out.dot(hit.normal) >= 0.0 {
         return 1.0; // reflected: the same angle and side both ways
     }
     let ratio = if hit.front_face { 1.0 / ior } else { ior };
-    let own = schlick((-incoming).dot(hit.normal).min(1.0), ratio);
-    let camera = schlick((-out).dot(hit.normal).min(1.0), 1.0 / ratio);
+    let own = fresnel.reflectance((-incoming).dot(hit.normal).min(1.0), ratio);
+    let camera = fresnel.reflectance((-out).dot(hit.normal).min(1.0), 1.0 / ratio);
     (1.0 - camera) / (1.0 - own)
 }

@@ -33,10 +33,13 @@ pub enum Material {
         /// Radius of the sphere the reflected direction is jittered within.
         fuzz: Real,
     },
-    /// Clear glass-like material: reflects or refracts by Snell's law and Schlick's Fresnel.
+    /// Clear glass-like material: reflects or refracts by Snell's law, with the chance of
+    /// reflecting given by `fresnel` (the books' Schlick approximation, or the exact equations).
     Dielectric {
         /// Refractive index relative to the surrounding medium (glass ≈ 1.5).
         ior: Real,
+        /// How the reflectance is computed.
+        fresnel: Fresnel,
     },
     /// Ideal diffuse with its colour from a texture.
     Textured {
@@ -99,11 +102,11 @@ impl Material {
                 // Fuzz can push the ray below the surface: the book absorbs it.
                 (direction.dot(hit.normal) > 0.0).then_some(Scatter { attenuation: albedo, direction })
             }
-            Material::Dielectric { ior } => {
+            Material::Dielectric { ior, fresnel } => {
                 let ratio = if hit.front_face { 1.0 / ior } else { ior };
                 let cos_theta = (-incoming).dot(hit.normal).min(1.0);
                 let direction = match refract(incoming, hit.normal, ratio) {
-                    Some(refracted) if schlick(cos_theta, ratio) <= uniform(rng) => refracted,
+                    Some(refracted) if fresnel.reflectance(cos_theta, ratio) <= uniform(rng) => refracted,
                     // Total internal reflection, or the Fresnel coin chose reflection.
                     _ => reflect(incoming, hit.normal),
                 };
@@ -114,6 +117,11 @@ impl Material {
 }
 
 impl Material {
+    /// Glass of index `ior` with the books' Schlick reflectance.
+    pub fn glass(ior: Real) -> Material {
+        Material::Dielectric { ior, fresnel: Fresnel::Schlick }
+    }
+
     /// The light this material emits at `hit`: a light's `emit` on its front face, black
     /// everywhere else.
     #[inline]
@@ -155,9 +163,9 @@ impl Material {
     /// the share of light it reflects there (Schlick's, the chance that [`Material::scatter`]
     /// reflects); `None` for any other material, or glass met from inside.
     pub fn glint(&self, incoming: Vec3, hit: &Hit) -> Option<(Vec3, Real)> {
-        let Material::Dielectric { ior } = *self else { return None };
+        let Material::Dielectric { ior, fresnel } = *self else { return None };
         let cos_theta = (-incoming).dot(hit.normal).min(1.0);
-        hit.front_face.then(|| (reflect(incoming, hit.normal), schlick(cos_theta, 1.0 / ior)))
+        hit.front_face.then(|| (reflect(incoming, hit.normal), fresnel.reflectance(cos_theta, 1.0 / ior)))
     }
 
     /// Whether the first book's render loop handles this material (no texture, no light, no
@@ -201,6 +209,51 @@ pub fn refract(v: Vec3, n: Vec3, eta_ratio: Real) -> Option<Vec3> {
         return None;
     }
     Some((perp - k.sqrt() * n).normalize())
+}
+
+/// How glass computes the share of light it reflects (`fresnel` in a scene file).
+///
+/// ```
+/// use raypool::tracer::shading::material::Fresnel;
+/// // Head-on into glass of 1.5 both give ((n − 1)/(n + 1))² = 0.04.
+/// for fresnel in [Fresnel::Schlick, Fresnel::Exact] {
+///     assert!((fresnel.reflectance(1.0, 1.0 / 1.5) - 0.04).abs() < 1e-6);
+/// }
+/// // Past the critical angle, inside the glass, both reflect everything.
+/// assert_eq!(Fresnel::Exact.reflectance(0.1, 1.5), 1.0);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Fresnel {
+    /// Schlick's approximation, as the books' glass (the default).
+    #[default]
+    Schlick,
+    /// The Fresnel equations for unpolarised light, as pbrt's and Mitsuba's dielectrics.
+    Exact,
+}
+
+impl Fresnel {
+    /// The share of light reflected where it arrives at `cosine` to the normal, from a side
+    /// whose index over the other's is `eta_ratio`.
+    pub fn reflectance(self, cosine: Real, eta_ratio: Real) -> Real {
+        match self {
+            Fresnel::Schlick => schlick(cosine, eta_ratio),
+            Fresnel::Exact => exact_fresnel(cosine, eta_ratio),
+        }
+    }
+}
+
+/// The Fresnel reflectance of unpolarised light, the mean of the two polarisations' (1 past
+/// the critical angle), in `[0, 1]`.
+pub fn exact_fresnel(cosine: Real, eta_ratio: Real) -> Real {
+    let cos_i = cosine.clamp(0.0, 1.0);
+    let sin_t2 = eta_ratio * eta_ratio * (1.0 - cos_i * cos_i);
+    if sin_t2 >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = (1.0 - sin_t2).sqrt();
+    let across = (eta_ratio * cos_i - cos_t) / (eta_ratio * cos_i + cos_t);
+    let along = (cos_i - eta_ratio * cos_t) / (cos_i + eta_ratio * cos_t);
+    (0.5 * (across * across + along * along)).clamp(0.0, 1.0)
 }
 
 /// Schlick's approximation of the Fresnel reflectance, in `[0, 1]`.

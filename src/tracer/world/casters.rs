@@ -15,7 +15,7 @@
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::Aabb;
 use crate::tracer::math::real::{Real, Vec3};
-use crate::tracer::shading::material::{Material, refract, schlick};
+use crate::tracer::shading::material::{Fresnel, Material, refract};
 use crate::tracer::world::object::Object;
 
 /// π in the tracer's precision.
@@ -28,6 +28,8 @@ pub struct Ball {
     pub sphere: Sphere,
     /// The glass's refractive index relative to the air around it.
     pub ior: Real,
+    /// How its glass computes the share it reflects.
+    pub fresnel: Fresnel,
 }
 
 /// A ray's way through a [`Ball`]: in at `entry`, out at `exit` along `out`.
@@ -47,9 +49,9 @@ pub struct Passage {
 }
 
 impl Ball {
-    /// The ball of `sphere` (a positive radius) in glass of index `ior`.
+    /// The ball of `sphere` (a positive radius) in glass of index `ior`, Schlick's Fresnel.
     pub fn new(sphere: Sphere, ior: Real) -> Ball {
-        Ball { sphere, ior }
+        Ball { sphere, ior, fresnel: Fresnel::Schlick }
     }
 
     /// The angle (radians) by which the ball turns a ray that passes it at `impact` radii
@@ -114,7 +116,8 @@ impl Ball {
         let exit_normal = (exit - center) / radius;
         let cos_out = inside.dot(exit_normal);
         let out = refract(inside, -exit_normal, self.ior)?;
-        let transmitted = (1.0 - schlick(cos_in, 1.0 / self.ior)) * (1.0 - schlick(cos_out, self.ior));
+        let reflected = |cos, ratio| self.fresnel.reflectance(cos, ratio);
+        let transmitted = (1.0 - reflected(cos_in, 1.0 / self.ior)) * (1.0 - reflected(cos_out, self.ior));
         Some(Passage { entry, inside, exit, out, transmitted })
     }
 
@@ -185,13 +188,13 @@ impl Casters {
     /// use raypool::tracer::world::{casters::Casters, object::Object};
     /// let ball = |radius| Object::Sphere(Sphere { center: Vec3::ZERO, radius, material: 0 });
     /// let lamps = Aabb::EMPTY.grow(Vec3::new(-1.0, 5.0, -1.0)).grow(Vec3::new(1.0, 5.0, 1.0));
-    /// let casters = Casters::new(&[ball(1.0), ball(-0.9)], &[Material::Dielectric { ior: 1.5 }], lamps);
+    /// let casters = Casters::new(&[ball(1.0), ball(-0.9)], &[Material::glass(1.5)], lamps);
     /// assert_eq!(casters.len(), 1); // the bubble inside is not a caster
     /// ```
     pub fn new(objects: &[Object], materials: &[Material], lamps: Aabb) -> Casters {
         let balls = objects.iter().filter_map(|object| match object {
             Object::Sphere(sphere) if sphere.radius > 0.0 => match materials[sphere.material as usize] {
-                Material::Dielectric { ior } => Some(Ball::new(*sphere, ior)),
+                Material::Dielectric { ior, fresnel } => Some(Ball { fresnel, ..Ball::new(*sphere, ior) }),
                 _ => None,
             },
             _ => None,
