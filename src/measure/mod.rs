@@ -1,5 +1,6 @@
 //! **Measurement**: the speedup benchmark, the scaling model that predicts it past this
-//! machine's cores, error against a reference and its convergence with samples, the numerical
+//! machine's cores, error against a reference and its convergence with samples, whether two
+//! estimators agree (block by block, with the comparison's power stated), the numerical
 //! stress cases, the plots, the machine a measurement runs on (its CPUs, the thread counts to
 //! measure, the label every committed figure carries), and the course's grader (conformance,
 //! then workloads timed against the reference). [`speedup`] and [`grade`] are folders: each
@@ -14,6 +15,7 @@
 pub mod speedup;
 pub mod scaling;
 pub mod convergence;
+pub mod agreement;
 pub mod compare;
 pub mod stress;
 pub mod stress_shapes;
