@@ -100,8 +100,8 @@ fn libm_erfc(x: f64) -> f64 {
     if x >= 0.0 { r } else { 2.0 - r }
 }
 
-/// The significance each test rejects at: 1%, split over the routines tested (Šidák).
-const ALPHA: f64 = 0.01 / 6.0;
+/// The significance each test rejects at: 1%, split over the seven checks (Bonferroni).
+const ALPHA: f64 = 0.01 / 7.0;
 
 /// Draws `SAMPLES` directions from `draw` and checks their counts against `pdf`; then checks
 /// that the same counts reject `pdf` tilted by ±5% along x.
@@ -184,4 +184,31 @@ fn a_light_sample_draws_directions_by_the_density_it_states() {
             &pdf,
         );
     }
+}
+
+/// Where a manifold sample and a light path (BDPT) start: `Lights::sample_emission` draws
+/// points uniformly over cornell's lamp (its one light), counted in 16 × 16 cells of it. The
+/// same counts must reject a density tilted by ±5% across the lamp.
+#[test]
+fn light_points_for_manifold_samples_and_light_paths_are_uniform_over_the_lamp() {
+    let text = raypool::scenes::builtin::builtin_scene("cornell", 0).unwrap().to_toml();
+    let scene = SceneFile::parse(&text, "cornell.toml").unwrap_or_else(|e| panic!("{e}")).to_scene();
+    // The lamp: q = (213, 554, 227), u = 130 x̂, v = 105 ẑ (`src/scenes/cornell.toml`).
+    let cell = |p: Vec3| {
+        let (a, b) = ((p.x - 213.0) / 130.0, (p.z - 227.0) / 105.0);
+        assert!((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b) && (p.y - 554.0).abs() < 1e-3, "{p}");
+        ((a * 16.0) as usize).min(15) * 16 + ((b * 16.0) as usize).min(15)
+    };
+    let mut rng = SmallRng::seed_from_u64(5);
+    let mut observed = vec![0usize; 256];
+    for _ in 0..SAMPLES {
+        let emission = scene.lights().sample_emission(0.0, &mut rng).expect("the lamp");
+        observed[cell(emission.point)] += 1;
+    }
+    let uniform = vec![SAMPLES as f64 / 256.0; 256];
+    let p = chi_squared_p(&observed, &uniform);
+    assert!(p > ALPHA, "the lamp's points are not uniform (p = {p:.2e})");
+    let tilted: Vec<f64> = (0..256).map(|k| uniform[k] * if k < 128 { 1.05 } else { 0.95 }).collect();
+    let p_wrong = chi_squared_p(&observed, &tilted);
+    assert!(p_wrong < ALPHA, "a density 5% off in half the lamp would pass too (p = {p_wrong:.2e})");
 }
