@@ -15,7 +15,7 @@ use std::process::{Command, Output, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-pub use pool::deadline::{limit as deadline, within};
+pub use pool::deadline::{limit as deadline, within, within_for};
 
 /// `command.output()`, waiting at most [`deadline`]: runs the child with stdin closed and
 /// stdout and stderr captured, each pipe read on a thread of its own (so a child that fills
