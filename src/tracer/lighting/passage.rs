@@ -359,7 +359,7 @@ pub fn bounce_density(ball: &Ball, from: Vec3, dir: Vec3, pdf: Real, at: Vec3, n
     let Some(taken) = ball.pass(from, dir) else { return 0.0 };
     // In double precision: from a point near the glass (the floor round the ball's foot) a
     // turn of a thousandth moves the entry by less than an `f32` resolves at the scene's
-    // size, and the spread came out wrong (`results/accuracy.md`).
+    // size, and the spread came out wrong (`tests/agreement.rs`).
     let (from, dir, at, normal) = (wide(from), wide(dir), wide(at), wide(normal));
     let land = |dir: DVec3| land(ball, from, dir, (at, normal));
     let (u, v) = dir.any_orthonormal_pair();

@@ -29,10 +29,9 @@ impl Ray {
     /// starts rays), to `to`, a point on another surface, and the distance it may search:
     /// aimed from where it really starts (pbrt's `SpawnRayTo`), and stopping short of `to` by
     /// a thousandth of the way or by [`REACH_ULPS`] ulps of `to`'s size, whichever is more,
-    /// so that it never meets the surface it aims at. Measuring the way from the surface
-    /// point instead, as shadow rays once did, let a start lifted towards a surface a few
-    /// offsets away run into that surface: a diffuse point under a glass ball's foot then
-    /// found its passages blocked by the ball itself (`results/accuracy.md`).
+    /// so that it never meets the surface it aims at. (Measured from the surface point
+    /// instead, a start lifted towards a surface close by ran into it: the floor under a
+    /// glass ball's foot found its passages blocked by the ball, `tests/agreement.rs`.)
     ///
     /// ```
     /// use raypool::tracer::math::ray::Ray;
