@@ -28,6 +28,7 @@ use raypool::tracer::render::{Adaptive, RenderSettings};
 use raypool::tracer::sampling::sampler::Sampler;
 use raypool::tracer::sampling::warp::random_unit_vector;
 use raypool::tracer::scene::Scene;
+use raypool::tracer::shading::material::Material;
 use raypool::tracer::world::object::Probe;
 
 fn cornell() -> Scene {
@@ -59,7 +60,8 @@ fn ball(x: Real, z: Real, radius: Real) -> String {
 /// along x from the foot of caster `k`, per unit albedo, green channel, over `n` samples:
 /// (bounces alone, manifold sample plus the weighed bounce), each as per-sample values.
 fn through_the_ball_at(scene: &Scene, k: usize, dx: Real, n: usize) -> (Vec<f64>, Vec<f64>) {
-    let white = scene.materials().iter().position(|m| format!("{m:?}").contains("0.73")).unwrap() as u32;
+    let white = Material::Lambertian { albedo: Vec3::splat(0.73) };
+    let white = scene.materials().iter().position(|m| *m == white).expect("cornell's white") as u32;
     let sphere = scene.casters().ball(k).sphere;
     let point = sphere.center - sphere.radius * Vec3::Y + dx * Vec3::X;
     let hit = Hit {

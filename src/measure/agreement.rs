@@ -95,7 +95,7 @@ impl Agreement {
 
 /// `ours` against `reference`, region by region (the last region the whole image).
 pub fn compare(ours: &[Estimate], reference: &[Estimate]) -> Agreement {
-    let (blocks, whole) = (ours.len() - 1, ours.len() - 1);
+    let whole = ours.len() - 1;
     let mut agreement = Agreement {
         whole_bias: ours[whole].mean / reference[whole].mean - 1.0,
         whole_error: ours[whole].error.hypot(reference[whole].error) / reference[whole].mean,
@@ -104,7 +104,7 @@ pub fn compare(ours: &[Estimate], reference: &[Estimate]) -> Agreement {
         detectable: 0.0,
         weakest_block: 0,
     };
-    for (b, (o, r)) in ours.iter().zip(reference).take(blocks).enumerate() {
+    for (b, (o, r)) in ours.iter().zip(reference).take(whole).enumerate() {
         let error = o.error.hypot(r.error);
         let z = match error > 0.0 {
             true => ((o.mean - r.mean) / error).abs(),
