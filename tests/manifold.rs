@@ -204,14 +204,23 @@ fn the_solve_finds_both_passages_of_a_fold_closer_than_its_step() {
 #[test]
 fn manifold_samples_keep_the_image_the_same_bits_under_every_schedule_and_thread_count() {
     within("the mis renders of cornell under every schedule to finish", || {
-        let scene = cornell();
-        for sampler in [Sampler::Sobol, Sampler::Independent] {
-            let settings =
-                RenderSettings { width: 24, height: 24, spp: 4, seed: 3, sampler, ..Default::default() };
-            let serial = render_frame(&scene, settings, Schedule::Serial, 1);
+        // And with the exact Fresnel equations, which the scatter, the glints and the
+        // casters' passages all take (its image must differ from Schlick's).
+        let text = builtin_scene("cornell", 0).unwrap().to_toml();
+        let exact = text.replace("ior = 1.5", "ior = 1.5\nfresnel = \"exact\"");
+        assert_ne!(exact, text, "cornell's glass is written as expected");
+        let settings = RenderSettings { width: 24, height: 24, spp: 4, seed: 3, ..Default::default() };
+        let (schlick, exact) = (cornell(), parse(&exact));
+        let image = |scene: &Scene| render_frame(scene, settings, Schedule::Serial, 1).image;
+        assert!(image(&schlick) != image(&exact), "fresnel = \"exact\" changed nothing");
+        for (scene, sampler) in
+            [(&schlick, Sampler::Sobol), (&schlick, Sampler::Independent), (&exact, Sampler::Sobol)]
+        {
+            let settings = RenderSettings { sampler, ..settings };
+            let serial = render_frame(scene, settings, Schedule::Serial, 1);
             for schedule in Schedule::ALL {
                 for threads in [2, 5] {
-                    let other = render_frame(&scene, settings, schedule, threads);
+                    let other = render_frame(scene, settings, schedule, threads);
                     assert_eq!(
                         other.rays, serial.rays,
                         "{sampler:?}: {schedule:?} × {threads} cast other rays"
