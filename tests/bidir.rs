@@ -219,7 +219,7 @@ fn a_camera_ray_read_backwards_lands_in_the_pixel_it_left() {
 }
 
 #[test]
-fn bdpt_is_refused_where_its_splats_cannot_go() {
+fn bdpt_refuses_adaptive_sampling_roulette_and_shading_normals() {
     let dir = scratch("bdpt-refused");
     let refused = |scene: &str, extra: &[&str], needle: &str| {
         let mut args =
@@ -231,7 +231,6 @@ fn bdpt_is_refused_where_its_splats_cannot_go() {
         assert_eq!(stderr.trim_end().lines().count(), 1, "{extra:?}: one line: {stderr}");
         assert!(stderr.contains(needle), "{extra:?}: '{needle}' not in {stderr}");
     };
-    refused("cornell", &["--shard", "0/2", "--out", "a.rpart"], "part file");
     refused("cornell", &["--target-error", "0.1", "--out", "a.pfm"], "--target-error");
     refused("cornell", &["--roulette", "--out", "a.pfm"], "--roulette");
     // The built-in `mesh` shades its ball by the normals of its OBJ file.

@@ -1,6 +1,7 @@
 //! Shards: `render --shard K/N` parts merged by `raypool merge` are the one-process image,
-//! byte for byte, whatever N, tile size and scheduler; a missing, duplicated, foreign,
-//! truncated or corrupt part is one line naming it, exit code 2, and no image.
+//! byte for byte, whatever N, tile size and scheduler, bdpt's light paths included; a
+//! missing, duplicated, foreign, truncated or corrupt part is one line naming it, exit code 2,
+//! and no image.
 
 mod deadline;
 
@@ -11,6 +12,7 @@ use deadline::{ok, raypool, scratch};
 use raypool::files::image::Image;
 use raypool::files::part::{Part, PartSettings, merge};
 use raypool::tracer::math::real::{Real, Vec3};
+use raypool::tracer::splats::Splats;
 use raypool::{RenderSettings, Shard, Tile};
 
 /// Renders `scene` whole into `whole.pfm` and as `n` parts with the modes taken in turn,
@@ -82,6 +84,21 @@ fn adaptive_parts_merge_into_the_one_process_image() {
         let dir = scratch(&format!("adaptive-{n}"));
         let (whole, merged) = whole_and_merged_with(&dir, scene, n, tile, &modes, &adaptive);
         assert!(whole == merged, "{n} adaptive shards of {tile}-pixel tiles ({scene}): merged image differs");
+    }
+}
+
+#[test]
+fn bdpt_parts_carry_their_light_paths_splats_into_the_one_process_image() {
+    // A light path's light lands in any shard's pixels: each part holds its shard's splats
+    // in fixed point and the merge adds their sum once, as the one-process render does.
+    let modes = ["steal", "serial", "static"];
+    let bdpt = ["--spp", "3", "--light-sampling", "bdpt"];
+    for (n, tile, scene) in [(3, "8", "cornell"), (4, "16", "cornell-smoke")] {
+        let dir = scratch(&format!("bdpt-{n}-{scene}"));
+        let (whole, merged) = whole_and_merged_with(&dir, scene, n, tile, &modes, &bdpt);
+        assert!(whole == merged, "{n} bdpt shards of {tile}-pixel tiles ({scene}): merged image differs");
+        let part = Part::from_bytes(&std::fs::read(dir.join("part-0.rpart")).unwrap()).unwrap();
+        assert!(part.header.splat_pixels > 0, "{scene}: shard 0's light paths splatted nothing");
     }
 }
 
@@ -175,7 +192,7 @@ fn bad_parts_are_refused_by_name() {
     longer.extend_from_slice(b"junk");
     std::fs::write(dir.join("longer.rpart"), &longer).unwrap();
     refused(&dir, &[p[0], "longer.rpart", p[2]], "longer.rpart: 4 bytes past its data");
-    let text = String::from_utf8_lossy(&bytes).replacen("raypool-part 1", "raypool-part 7", 1);
+    let text = String::from_utf8_lossy(&bytes).replacen("raypool-part 2", "raypool-part 7", 1);
     std::fs::write(dir.join("future.rpart"), text.as_bytes()).unwrap();
     refused(&dir, &[p[0], "future.rpart", p[2]], "future.rpart: part format version 7");
     std::fs::write(dir.join("image.rpart"), b"P6\n1 1\n255\n\0\0\0").unwrap();
@@ -217,21 +234,32 @@ fn a_part_round_trips_through_its_bytes() {
     };
     let settings = RenderSettings { width, height, ..RenderSettings::default() };
     let grid = Tile::grid(width, height, tile);
+    let mut all_splats = Splats::default();
     let parts: Vec<(String, Part)> = (0..2)
         .map(|k| {
             let shard = Shard { index: k, count: 2 };
+            // Light paths' splats land in any pixel, the other shard's too.
+            let mut splats = Splats::default();
+            splats.add(5, Vec3::new(0.5, 1e-9, 7.0));
+            splats.add(3 * k, Vec3::splat(k as Real + 0.25));
+            all_splats.merge(&splats);
             let part = Part::new(
                 PartSettings::new("d".into(), &settings, tile, 2),
                 shard,
                 &shard.tiles(&grid),
                 &image,
+                splats,
             );
             let read = Part::from_bytes(&part.to_bytes()).expect("a part reads back");
             assert_eq!(read.tiles, part.tiles, "pixels exactly as written");
+            assert_eq!(read.splats, part.splats, "splats exactly as written");
             (format!("p{k}"), read)
         })
         .collect();
-    assert_eq!(merge(&parts).unwrap(), image);
+    let mut expected = image.clone();
+    expected.add_splats(&all_splats, settings.spp);
+    assert_ne!(expected, image);
+    assert_eq!(merge(&parts).unwrap(), expected);
 }
 
 #[test]

@@ -21,7 +21,6 @@ use crate::schedule::frame::Frame;
 use crate::schedule::modes::{Schedule, render};
 use crate::schedule::progressive::Cancel;
 use crate::schedule::random::{RngChoice, RngSource};
-use crate::tracer::lighting::LightSampling;
 use crate::tracer::render::RenderSettings;
 use crate::tracer::tile::{Shard, Tile};
 
@@ -70,6 +69,7 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
             shard,
             &frame.tiles(),
             &rendered.image,
+            std::mem::take(&mut rendered.splats),
         );
         (part.header.rays, part.header.samples) = (rendered.rays, rendered.samples);
         (part.header.seconds, part.header.host) = (seconds, host());
@@ -101,11 +101,6 @@ fn check_shard(args: &RenderArgs, format: Format) -> Result<Shard, Error> {
     if format == Format::Part && args.workers.rng == RngChoice::Shared {
         return Err(Error::new(
             "--rng shared draws numbers in whatever order threads run, so parts would not merge into one image: use --rng per-sample",
-        ));
-    }
-    if format == Format::Part && args.image.light_sampling == LightSampling::Bdpt {
-        return Err(Error::new(
-            "--light-sampling bdpt adds light to pixels of every shard, which a part file does not hold: render the whole image",
         ));
     }
     if format == Format::Part && args.denoise {

@@ -1,7 +1,8 @@
 //! The frame buffer: linear RGB pixels assembled from rendered tiles, and its 8-bit form.
 
-use crate::tracer::math::real::{Vec3, to_f64};
+use crate::tracer::math::real::{Vec3, from_dvec3, to_dvec3, to_f64};
 use crate::tracer::render::TileOutput;
+use crate::tracer::splats::Splats;
 use crate::tracer::tile::Tile;
 
 /// A linear-light RGB image, row-major, row 0 at the top.
@@ -60,6 +61,26 @@ impl Image {
         match (0..wanted.len()).find(|&k| wanted[k] && !written[k]) {
             Some(k) => Err(format!("pixel ({}, {}) never rendered", at(k).0, at(k).1)),
             None => Ok(Image { width, height, pixels }),
+        }
+    }
+
+    /// Adds the light that light paths splatted (`--light-sampling bdpt`), `paths` of them per
+    /// pixel, each pixel's sum in f64 and rounded once: the one way a render, a merge of parts
+    /// and the viewer add it, so all three give the same bits.
+    ///
+    /// ```
+    /// use raypool::files::image::Image;
+    /// use raypool::tracer::math::real::Vec3;
+    /// use raypool::tracer::splats::Splats;
+    /// let mut image = Image { width: 2, height: 1, pixels: vec![Vec3::ONE; 2] };
+    /// let mut splats = Splats::default();
+    /// splats.add(1, Vec3::splat(2.0));
+    /// image.add_splats(&splats, 4);
+    /// assert_eq!(image.pixels, [Vec3::ONE, Vec3::splat(1.5)]);
+    /// ```
+    pub fn add_splats(&mut self, splats: &Splats, paths: u32) {
+        for (k, light) in splats.per_pixel(paths) {
+            self.pixels[k] = from_dvec3(to_dvec3(self.pixels[k]) + light);
         }
     }
 

@@ -8,16 +8,22 @@
 //! newer format, or one rendered with the other precision; [`merge`] then checks that the parts
 //! belong together and cover every tile once. Every failure is one line naming the file.
 //!
-//! The format, version 1 (all integers little-endian):
+//! A part also holds the light its light paths carried to any pixel of the image
+//! (`--light-sampling bdpt`'s splats), in fixed point: the merge sums every part's and adds it
+//! once, as the one-process render does, so the bits agree.
+//!
+//! The format, version 2 (all integers little-endian):
 //!
 //! ```text
-//! raypool-part 1\n                       magic and version
+//! raypool-part 2\n                       magic and version
 //! <H>\n                                  the header's length in bytes, decimal
 //! <H bytes of TOML>                      PartHeader: scene digest, settings, shard, totals,
 //!                                        data length and SHA-256
 //! per tile, in the shard's order:
 //!   x, y, width, height                  4 × u32
 //!   width × height × (r, g, b)           f64 each, row-major, linear light
+//! per pixel that received splats, in pixel order:
+//!   pixel, r, g, b                       u32 (row-major index), 3 × u64 (fixed point)
 //! ```
 //!
 //! Values are stored as f64 whatever the build, which holds an f32 exactly.
@@ -29,16 +35,22 @@ use crate::error::Error;
 use crate::files::image::Image;
 use crate::tracer::math::real::{Real, Vec3, to_f64};
 use crate::tracer::render::{RenderSettings, TileOutput};
+use crate::tracer::splats::Splats;
 use crate::tracer::tile::{Shard, Tile};
 
 /// The first line of every part file.
 const MAGIC: &str = "raypool-part";
 /// The format version this code writes and reads.
-const VERSION: u32 = 1;
+const VERSION: u32 = 2;
 /// A header longer than this is not a part's.
 const MAX_HEADER_BYTES: usize = 1 << 20;
 /// Bytes per tile record before its pixels.
 const TILE_RECORD_BYTES: usize = 16;
+/// Tiles with their pixels, as a part holds them.
+type TilePixels = Vec<(Tile, Vec<Vec3>)>;
+
+/// Bytes per splat record: a pixel index and three fixed-point sums.
+const SPLAT_RECORD_BYTES: usize = 28;
 
 /// Everything that decides a pixel's value, which every part of one image must share.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -123,6 +135,8 @@ pub struct PartHeader {
     pub shard: u32,
     /// Number of tiles in the data.
     pub tiles: u32,
+    /// Number of pixels with splats in the data, after the tiles.
+    pub splat_pixels: u64,
     /// Rays cast rendering it.
     pub rays: u64,
     /// Camera samples taken rendering it.
@@ -146,6 +160,8 @@ pub struct Part {
     pub header: PartHeader,
     /// The shard's tiles and their pixels (row-major, linear RGB), in grid order.
     pub tiles: Vec<(Tile, Vec<Vec3>)>,
+    /// The light the shard's light paths splatted, anywhere in the image.
+    pub splats: Splats,
 }
 
 /// SHA-256 of `text` (a scene's TOML), hex: what tells two parts' scenes apart.
@@ -164,11 +180,13 @@ fn hex(bytes: &[u8]) -> String {
 
 impl Part {
     /// The part of shard `shard` cut from `image` (a render of that shard, other pixels
-    /// black): the pixels of `tiles`, which are the shard's tiles in grid order.
-    pub fn new(settings: PartSettings, shard: Shard, tiles: &[Tile], image: &Image) -> Part {
+    /// black): the pixels of `tiles`, which are the shard's tiles in grid order, and the
+    /// shard's `splats` (see [`Rendered::splats`](crate::schedule::modes::Rendered::splats)).
+    pub fn new(settings: PartSettings, shard: Shard, tiles: &[Tile], image: &Image, splats: Splats) -> Part {
         let header = PartHeader {
             shard: shard.index,
             tiles: tiles.len() as u32,
+            splat_pixels: 0,
             rays: 0,
             samples: 0,
             seconds: 0.0,
@@ -177,7 +195,7 @@ impl Part {
             data_sha256: String::new(),
             settings,
         };
-        Part { header, tiles: tiles.iter().map(|&t| (t, image.crop(t))).collect() }
+        Part { header, tiles: tiles.iter().map(|&t| (t, image.crop(t))).collect(), splats }
     }
 
     /// The part as bytes: magic line, header length, header, data (see the module docs).
@@ -201,6 +219,7 @@ impl Part {
         })?;
         let mut header = self.header.clone();
         header.tiles = self.tiles.len() as u32;
+        header.splat_pixels = self.splats.len() as u64;
         header.data_bytes = data_bytes;
         header.data_sha256 = hex(&hash.finalize());
         let text = toml::to_string(&header).expect("a part header is plain TOML");
@@ -208,7 +227,8 @@ impl Part {
         self.each_record(|record| out.write_all(record))
     }
 
-    /// Calls `each` with every tile's record (its rectangle, then its pixels as f64), in order.
+    /// Calls `each` with every tile's record (its rectangle, then its pixels as f64), in order,
+    /// then with every splat's (its pixel, then its sums).
     fn each_record(&self, mut each: impl FnMut(&[u8]) -> std::io::Result<()>) -> std::io::Result<()> {
         let mut record = Vec::new();
         for (tile, pixels) in &self.tiles {
@@ -219,6 +239,12 @@ impl Part {
             for value in pixels.iter().flat_map(|p| p.to_array()) {
                 record.extend_from_slice(&to_f64(value).to_le_bytes());
             }
+            each(&record)?;
+        }
+        for (pixel, counts) in self.splats.counts() {
+            record.clear();
+            record.extend_from_slice(&pixel.to_le_bytes());
+            counts.iter().for_each(|c| record.extend_from_slice(&c.to_le_bytes()));
             each(&record)?;
         }
         Ok(())
@@ -262,8 +288,9 @@ impl Part {
                 real_name()
             ));
         }
-        let tiles = read_tiles(data, &header)?;
-        Ok(Part { header, tiles })
+        let (tiles, rest) = read_tiles(data, &header)?;
+        let splats = read_splats(rest, &header)?;
+        Ok(Part { header, tiles, splats })
     }
 }
 
@@ -273,15 +300,22 @@ fn split_line(bytes: &[u8]) -> Option<(&[u8], &[u8])> {
     Some((&bytes[..end], &bytes[end + 1..]))
 }
 
-/// The tile records of `data`, checked against the header's image size and tile count.
-fn read_tiles(data: &[u8], header: &PartHeader) -> Result<Vec<(Tile, Vec<Vec3>)>, String> {
+/// The header's number of tile records at the start of `data`, checked against the image's
+/// size, and the bytes after them.
+fn read_tiles<'a>(data: &'a [u8], header: &PartHeader) -> Result<(TilePixels, &'a [u8]), String> {
     let (width, height) = (header.settings.width, header.settings.height);
     let mut tiles = Vec::new();
     let mut at = data;
-    while !at.is_empty() {
-        let record = at.get(..TILE_RECORD_BYTES).ok_or("a tile record is cut short")?;
-        let n = |k: usize| u32::from_le_bytes([record[k], record[k + 1], record[k + 2], record[k + 3]]);
-        let tile = Tile { x: n(0), y: n(4), width: n(8), height: n(12) };
+    while tiles.len() < header.tiles as usize {
+        let record = at
+            .get(..TILE_RECORD_BYTES)
+            .ok_or_else(|| format!("holds {} tiles; its header says {}", tiles.len(), header.tiles))?;
+        let tile = Tile {
+            x: u32_at(record, 0),
+            y: u32_at(record, 4),
+            width: u32_at(record, 8),
+            height: u32_at(record, 12),
+        };
         let fits = tile.x as u64 + tile.width as u64 <= width as u64
             && tile.y as u64 + tile.height as u64 <= height as u64;
         if !fits {
@@ -292,17 +326,49 @@ fn read_tiles(data: &[u8], header: &PartHeader) -> Result<Vec<(Tile, Vec<Vec3>)>
         let pixels = values
             .chunks_exact(24)
             .map(|p| {
-                let c = |k: usize| f64::from_le_bytes(p[k..k + 8].try_into().expect("8 bytes")) as Real;
+                let c = |k: usize| f64::from_bits(u64_at(p, k)) as Real;
                 Vec3::new(c(0), c(8), c(16))
             })
             .collect();
         tiles.push((tile, pixels));
         at = &at[TILE_RECORD_BYTES + tile.area() * 24..];
     }
-    if tiles.len() != header.tiles as usize {
-        return Err(format!("holds {} tiles; its header says {}", tiles.len(), header.tiles));
+    Ok((tiles, at))
+}
+
+/// The splat records that end the data: the header's number of them, each a pixel of the
+/// image, in increasing pixel order (so each pixel once).
+fn read_splats(data: &[u8], header: &PartHeader) -> Result<Splats, String> {
+    let expected = header.splat_pixels.saturating_mul(SPLAT_RECORD_BYTES as u64);
+    if data.len() as u64 != expected {
+        return Err(format!(
+            "{} bytes after its tiles; its header says {} splat records ({expected} bytes)",
+            data.len(),
+            header.splat_pixels
+        ));
     }
-    Ok(tiles)
+    let pixels = u64::from(header.settings.width) * u64::from(header.settings.height);
+    let mut splats = Splats::default();
+    let mut last = None;
+    for record in data.chunks_exact(SPLAT_RECORD_BYTES) {
+        let pixel = u32_at(record, 0);
+        if u64::from(pixel) >= pixels || last.is_some_and(|l| pixel <= l) {
+            return Err(format!("splat pixel {pixel} is outside the image or out of order"));
+        }
+        splats.add_counts(pixel, [u64_at(record, 4), u64_at(record, 12), u64_at(record, 20)]);
+        last = Some(pixel);
+    }
+    Ok(splats)
+}
+
+/// The little-endian `u32` at `bytes[k..k + 4]`.
+fn u32_at(bytes: &[u8], k: usize) -> u32 {
+    u32::from_le_bytes(bytes[k..k + 4].try_into().expect("4 bytes"))
+}
+
+/// The little-endian `u64` at `bytes[k..k + 8]`.
+fn u64_at(bytes: &[u8], k: usize) -> u64 {
+    u64::from_le_bytes(bytes[k..k + 8].try_into().expect("8 bytes"))
 }
 
 /// Checks that `parts` (each with the name of its file) are the whole of one image and
@@ -333,6 +399,7 @@ pub fn merge(parts: &[(String, Part)]) -> Result<Image, Error> {
     }
     let grid = Tile::grid(settings.width, settings.height, settings.tile);
     let mut outputs = Vec::with_capacity(grid.len());
+    let mut splats = Splats::default();
     for (name, part) in parts {
         let shard = Shard { index: part.header.shard, count };
         let held: Vec<Tile> = part.tiles.iter().map(|(t, _)| *t).collect();
@@ -347,6 +414,9 @@ pub fn merge(parts: &[(String, Part)]) -> Result<Image, Error> {
             splats: Default::default(),
             timing: None,
         }));
+        splats.merge(&part.splats);
     }
-    Image::from_tiles(settings.width, settings.height, &outputs).map_err(Error::new)
+    let mut image = Image::from_tiles(settings.width, settings.height, &outputs).map_err(Error::new)?;
+    image.add_splats(&splats, settings.spp);
+    Ok(image)
 }

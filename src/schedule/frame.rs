@@ -14,10 +14,9 @@ use std::time::Instant;
 use crate::files::image::Image;
 use crate::schedule::progressive::{Cancel, Pass};
 use crate::schedule::random::RngSource;
-use crate::tracer::bidir::splat::Splats;
-use crate::tracer::math::real::{from_dvec3, to_dvec3};
 use crate::tracer::render::{RenderJob, TileOutput, TileTiming, render_tile};
 use crate::tracer::sampling::sampler::RandomStreams;
+use crate::tracer::splats::Splats;
 use crate::tracer::tile::{Shard, Tile};
 
 /// Default tile side for the tiled modes, pixels (measured: `results/tile-size.md`).
@@ -219,22 +218,29 @@ impl Frame {
     }
 
     /// Assembles rendered tiles into the image, checking that they cover every pixel of the
-    /// frame once (in a shard, the shard's pixels; the others stay black), and adds the light
-    /// their light paths splatted (`--light-sampling bdpt`): summed in fixed point, so in any
-    /// order of tiles to the same bits.
+    /// frame once (in a shard, the shard's pixels; the others stay black). A whole frame's
+    /// image also gets the light its light paths splatted (`--light-sampling bdpt`); a shard's
+    /// does not: that light lands in every shard's pixels, so it travels beside the image
+    /// ([`Frame::splats`]) and is added when the parts merge.
     pub fn assemble(&self, tiles: &[TileOutput]) -> Result<Image, String> {
-        let mut image = if self.shard == Shard::WHOLE {
-            Image::from_tiles(self.width(), self.height(), tiles)?
-        } else {
-            Image::from_tiles_within(self.width(), self.height(), &self.tiles(), tiles)?
-        };
-        if tiles.iter().any(|t| !t.splats.is_empty()) {
-            let mut splats = Splats::default();
-            tiles.iter().for_each(|t| splats.merge(&t.splats));
-            for (k, light) in splats.per_pixel(self.job.settings.spp) {
-                image.pixels[k] = from_dvec3(to_dvec3(image.pixels[k]) + light);
-            }
+        if self.shard != Shard::WHOLE {
+            return Image::from_tiles_within(self.width(), self.height(), &self.tiles(), tiles);
         }
+        let mut image = Image::from_tiles(self.width(), self.height(), tiles)?;
+        image.add_splats(&Frame::splats(tiles), self.paths());
         Ok(image)
+    }
+
+    /// Every tile's splats summed: in fixed point, so in any order of tiles to the same bits.
+    pub fn splats(tiles: &[TileOutput]) -> Splats {
+        let mut splats = Splats::default();
+        tiles.iter().for_each(|t| splats.merge(&t.splats));
+        splats
+    }
+
+    /// Light paths per pixel that the tiles' splats sum: one per sample taken so far (a
+    /// progressive pass's end, else the settings' samples per pixel).
+    pub fn paths(&self) -> u32 {
+        self.pass.as_ref().map_or(self.job.settings.spp, |pass| pass.samples.end)
     }
 }

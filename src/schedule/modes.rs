@@ -21,7 +21,8 @@ use crate::files::image::Image;
 use crate::schedule::adaptive::render_adaptive;
 use crate::schedule::frame::Frame;
 use crate::tracer::render::{TileOutput, TileTiming};
-use crate::tracer::tile::Tile;
+use crate::tracer::splats::Splats;
+use crate::tracer::tile::{Shard, Tile};
 
 /// A way of distributing a frame's tiles over threads.
 ///
@@ -175,6 +176,10 @@ pub fn tiles_on(pool: &ThreadPool, frame: &Arc<Frame>, tiles: Vec<Tile>) -> Vec<
 pub struct Rendered {
     /// The image.
     pub image: Image,
+    /// Light its light paths carried to pixels that is not in `image`: a shard's, which lands
+    /// in every shard's pixels and goes into its part file (empty for a whole image, which
+    /// holds it).
+    pub splats: Splats,
     /// Every ray cast, camera rays and bounces.
     pub rays: u64,
     /// Camera samples taken, all pixels together.
@@ -230,8 +235,10 @@ pub fn render(frame: &Arc<Frame>, scheduler: &dyn Scheduler) -> Rendered {
         }
     }
     .unwrap_or_else(|e| panic!("scheduler broke its contract: {e}"));
+    let splats = if frame.shard() == Shard::WHOLE { Splats::default() } else { Frame::splats(&tiles) };
     Rendered {
         image,
+        splats,
         rays: tiles.iter().map(|t| t.rays).sum(),
         samples: tiles.iter().map(|t| t.samples).sum(),
         timeline: tiles.iter().filter_map(|t| Some((t.tile, t.timing?))).collect(),

@@ -59,7 +59,8 @@ impl Pass {
             pixels: sums.means(),
             rays,
             samples: sums.samples() - before,
-            splats: Default::default(),
+            // Every splat of samples `0..end`, as the pixels are means over them.
+            splats: sums.splats.clone(),
             timing: None,
         };
         self.sums.lock().insert(tile, sums);

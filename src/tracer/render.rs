@@ -18,7 +18,6 @@ use std::time::Duration;
 
 use crate::error::Error;
 use crate::tracer::bidir::connect::{Bidir, Paths};
-use crate::tracer::bidir::splat::Splats;
 use crate::tracer::camera::{Camera, CameraSettings};
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::LightSampling;
@@ -28,6 +27,7 @@ use crate::tracer::sampling::independent::{PerSample, mix};
 use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, Sampler};
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
+use crate::tracer::splats::Splats;
 pub use crate::tracer::tile::PixelSums;
 use crate::tracer::tile::Tile;
 use crate::tracer::world::object::Probe;

@@ -14,8 +14,8 @@ use std::str::FromStr;
 
 use glam::DVec3;
 
-use crate::tracer::bidir::splat::Splats;
 use crate::tracer::math::real::{Vec3, from_dvec3};
+use crate::tracer::splats::Splats;
 
 /// A rectangle of pixels: columns `x..x + width`, rows `y..y + height` (row 0 at the top).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

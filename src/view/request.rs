@@ -25,7 +25,6 @@ use crate::measure::machine::cpus;
 use crate::scenes::format::SceneFile;
 use crate::schedule::modes::Schedule;
 use crate::schedule::random::RngChoice;
-use crate::tracer::lighting::LightSampling;
 use crate::tracer::render::RenderJob;
 
 /// Largest pasted scene, bytes.
@@ -169,11 +168,6 @@ pub fn config(
     let settings = render_settings(image, &scene, args.workers.rng)?;
     if settings.adaptive.is_some() {
         return Err(Error::new("the viewer renders progressive passes, not adaptive sampling"));
-    }
-    if settings.light_sampling == LightSampling::Bdpt {
-        return Err(Error::new(
-            "the viewer shows each tile as its passes finish, and bdpt's light paths add light to other tiles: render it with `raypool render`",
-        ));
     }
     let threads = worker_threads(&args.workers);
     if threads > max_threads() {

@@ -32,6 +32,7 @@ use crate::schedule::kept::KeptPool;
 use crate::schedule::modes::render;
 use crate::schedule::progressive::{Cancel, Pass, Sums};
 use crate::schedule::random::RngSource;
+use crate::tracer::lighting::LightSampling;
 use crate::tracer::render::TileOutput;
 use crate::view::events::{frame_event, preview_event, start_event, tile_event};
 use crate::view::preview::{Preview, StartResolution, camera_rested, render_preview};
@@ -127,6 +128,9 @@ struct Pages {
     /// the timeline's bars from them.
     tiles: Vec<Arc<str>>,
     tiles_pass: u32,
+    /// The `frame` sent when those tiles' pass ended, if it was sent (bdpt: its light paths
+    /// lit pixels the tiles do not show), to draw over them.
+    frame_over_tiles: Option<Arc<str>>,
 }
 
 /// What an event is, for what a late page must be told.
@@ -135,6 +139,7 @@ enum Kind {
     Start,
     Tile { pass: u32 },
     Preview,
+    Frame,
     Pass,
     Done,
 }
@@ -258,7 +263,8 @@ impl Session {
 
     /// A new page's event stream. It starts with what the page missed of the running render:
     /// its `start`, a `frame` with the image of its latest pass, the `tile`s of the latest pass
-    /// that has any (outlines, timeline bars and their pixels), that `pass`, and `done`; so a
+    /// that has any (outlines, timeline bars and their pixels), the `frame` sent when that pass
+    /// ended if one was (bdpt), that `pass`, and `done`; so a
     /// page opened late shows what a page open from the start shows. The frame is built
     /// before the pages' lock is taken (a render's tile hook takes that lock too); a pass that
     /// ends meanwhile only means its tiles are drawn over a frame one pass older.
@@ -267,11 +273,12 @@ impl Session {
         let frame = self.latest().map(|s| self.frame_event_of(&s));
         let mut pages = self.pages.lock(); // no event goes out between the replay and the joining
         let frame = frame.filter(|_| pages.last_pass.is_some());
-        let replay = [pages.start.clone(), frame]
-            .into_iter()
-            .flatten()
-            .chain(pages.tiles.iter().cloned())
-            .chain([pages.last_pass.clone(), pages.done.clone()].into_iter().flatten());
+        let replay =
+            [pages.start.clone(), frame].into_iter().flatten().chain(pages.tiles.iter().cloned()).chain(
+                [pages.frame_over_tiles.clone(), pages.last_pass.clone(), pages.done.clone()]
+                    .into_iter()
+                    .flatten(),
+            );
         for event in replay {
             let _ = tx.try_send(event);
         }
@@ -288,14 +295,16 @@ impl Session {
             Kind::Start => {
                 (pages.start, pages.last_pass, pages.done) = (Some(Arc::clone(&event)), None, None);
                 pages.tiles.clear();
+                pages.frame_over_tiles = None;
             }
             Kind::Tile { pass } => {
                 if pass != pages.tiles_pass {
-                    (pages.tiles_pass, pages.tiles) = (pass, Vec::new());
+                    (pages.tiles_pass, pages.tiles, pages.frame_over_tiles) = (pass, Vec::new(), None);
                 }
                 pages.tiles.push(Arc::clone(&event));
             }
             Kind::Preview => {} // a late page is shown the latest pass instead
+            Kind::Frame => pages.frame_over_tiles = Some(Arc::clone(&event)),
             Kind::Pass => pages.last_pass = Some(Arc::clone(&event)),
             Kind::Done => pages.done = Some(Arc::clone(&event)),
         }
@@ -333,6 +342,7 @@ impl Session {
         let rng = RngSource::new(&settings, config.rng);
         let started = Instant::now();
         let (mut done, mut pass) = (0, 0);
+        let splatted = settings.light_sampling == LightSampling::Bdpt;
         while done < settings.spp && !cancel.is_cancelled() {
             // A job renders a tile, or a whole row in the row modes.
             let job_pixels = (config.tile * config.tile).max(settings.width);
@@ -366,7 +376,13 @@ impl Session {
             done += more;
             let seconds = pass_start.elapsed().as_secs_f64();
             let (rays, imbalance) = (rendered.rays, rendered.imbalance());
-            *self.latest.lock() = Some(Arc::new(Snapshot { generation, spp: done, image: rendered.image }));
+            let snapshot = Arc::new(Snapshot { generation, spp: done, image: rendered.image });
+            *self.latest.lock() = Some(Arc::clone(&snapshot));
+            if splatted {
+                // bdpt's light paths lit pixels of other tiles than their own, which the
+                // tiles' events do not show: the whole image, once per pass, does.
+                self.broadcast(Kind::Frame, self.frame_event_of(&snapshot).to_string());
+            }
             self.broadcast(
                 Kind::Pass,
                 json!({

@@ -8,7 +8,6 @@
 //! sample. Every shadow ray in a medium draws from its own key, so no connection changes a
 //! number another draws.
 
-use crate::tracer::bidir::splat::Splats;
 use crate::tracer::bidir::vertex::{Kind, Vertex};
 use crate::tracer::bidir::walk::{Direction, walk};
 use crate::tracer::bidir::weight::{Ends, Limits, weight};
@@ -19,6 +18,7 @@ use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::independent::mix;
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::scene::Scene;
+use crate::tracer::splats::Splats;
 use crate::tracer::world::emission::emitted_direction;
 use crate::tracer::world::object::Probe;
 

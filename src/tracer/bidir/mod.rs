@@ -17,4 +17,3 @@ pub mod chain;
 pub mod walk;
 pub mod weight;
 pub mod connect;
-pub mod splat;

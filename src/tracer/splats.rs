@@ -26,7 +26,7 @@ impl Splats {
     /// Adds `value` (non-negative; anything else adds nothing) to pixel `pixel`.
     ///
     /// ```
-    /// use raypool::tracer::bidir::splat::Splats;
+    /// use raypool::tracer::splats::Splats;
     /// use raypool::tracer::math::real::Vec3;
     /// let (mut a, mut b) = (Splats::default(), Splats::default());
     /// a.add(7, Vec3::new(0.1, 0.2, 0.3));
@@ -36,21 +36,50 @@ impl Splats {
     /// assert_eq!(a, b); // the order of the adds does not matter
     /// ```
     pub fn add(&mut self, pixel: u32, value: Vec3) {
-        let counts = to_dvec3(value).to_array().map(to_counts);
+        self.add_counts(pixel, to_dvec3(value).to_array().map(to_counts));
+    }
+
+    /// Adds every splat of `other`.
+    pub fn merge(&mut self, other: &Splats) {
+        for (&pixel, &counts) in &other.sums {
+            self.add_counts(pixel, counts);
+        }
+    }
+
+    /// Adds `counts` (fixed point, as [`Splats::counts`] gives them) to pixel `pixel`: how a
+    /// part file's splats are read back.
+    pub fn add_counts(&mut self, pixel: u32, counts: [u64; 3]) {
         let sum = self.sums.entry(pixel).or_default();
         for (s, c) in sum.iter_mut().zip(counts) {
             *s = s.saturating_add(c);
         }
     }
 
-    /// Adds every splat of `other`.
-    pub fn merge(&mut self, other: &Splats) {
-        for (&pixel, counts) in &other.sums {
-            let sum = self.sums.entry(pixel).or_default();
-            for (s, &c) in sum.iter_mut().zip(counts) {
-                *s = s.saturating_add(c);
-            }
-        }
+    /// Every pixel that received light, in pixel order, with its sums in fixed point: what a
+    /// part file stores (in order, so the same splats are the same bytes).
+    ///
+    /// ```
+    /// use raypool::tracer::splats::Splats;
+    /// use raypool::tracer::math::real::Vec3;
+    /// let mut a = Splats::default();
+    /// a.add(9, Vec3::new(1.0, 0.0, 0.5));
+    /// a.add(2, Vec3::new(0.25, 0.0, 0.0));
+    /// let mut b = Splats::default();
+    /// for (pixel, counts) in a.counts() {
+    ///     b.add_counts(pixel, counts);
+    /// }
+    /// assert_eq!(a, b);
+    /// assert_eq!(a.counts().next(), Some((2, [1 << 30, 0, 0])));
+    /// ```
+    pub fn counts(&self) -> impl Iterator<Item = (u32, [u64; 3])> + '_ {
+        let mut pixels: Vec<u32> = self.sums.keys().copied().collect();
+        pixels.sort_unstable();
+        pixels.into_iter().map(|pixel| (pixel, self.sums[&pixel]))
+    }
+
+    /// How many pixels received light.
+    pub fn len(&self) -> usize {
+        self.sums.len()
     }
 
     /// Whether no splat has landed.
