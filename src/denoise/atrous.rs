@@ -6,10 +6,9 @@
 //! holes), so three passes of 9 taps reach 15 pixels across, as one pass of 225 taps would.
 //! A neighbour's weight is the B-spline kernel's (1/4, 1/2, 1/4 per axis; Dammertz's paper
 //! uses the 5 × 5 B3 spline) times how alike its guide is to the pixel's. Both choices were
-//! measured on `final`, 400 × 267, 1 spp against 256 spp, 2 threads: the 5 × 5 kernel left
-//! 5.17 times less error inside surfaces in 66 ms, the 3 × 3 5.19 times in 21 ms (while this
-//! file was written, a 2-core Intel Xeon); and three passes leave less error inside surfaces
-//! than four or five, which blur the shadows more (`results/denoise.md`, by passes).
+//! measured: the 3 × 3 kernel removes as much error inside surfaces as the 5 × 5 in a third
+//! of the time, and three passes leave less error than four or five, which blur the shadows
+//! more (`results/denoise.md`; the kernels' figures: `results/history/comment-figures.md`).
 //!
 //! - **normal**: `max(0, n_p·n_q)^64`, so a surface that turns away stops the blur;
 //! - **plane**: `exp(−|n_p·(x_q − x_p)| / (σ · distance · pixel angle))`, the neighbour's

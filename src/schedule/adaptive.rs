@@ -138,10 +138,9 @@ fn l1(v: DVec3) -> f64 {
 /// Samples in proportion to the noise, not to its square: spending a budget of samples so
 /// that the image's total squared error is least gives each pixel samples in proportion to
 /// its standard deviation (Neyman's allocation); dividing by √b leans towards dark pixels, as
-/// relative error asks (which would divide by `b`). Measured on `final` against the square
-/// (every pixel sampled until its predicted halves differ by `target × √b`) and against
-/// dividing by `b`: 0.38× and 0.47× the rays to the error of 256 independent samples per pixel
-/// against 0.58× and 0.47× (RMSE), 0.36× against 0.52× and 0.39× (relative MSE).
+/// relative error asks (which would divide by `b`). On `final` it reaches a given error in
+/// fewer rays than the square or the division by `b`, by RMSE and by relative MSE
+/// (`results/adaptive.md`, the table of rules).
 fn sample_counts(
     noise: &[(f64, f64)],
     width: usize,

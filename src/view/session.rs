@@ -41,8 +41,8 @@ use crate::view::request::Config;
 /// Events a page may fall behind by before it is dropped.
 const QUEUE: usize = 8192;
 
-/// The most samples one job may take: a 16 × 16 tile at 16 samples per pixel (about 2 ms for
-/// `final` here). Passes double (1, 1, 2, 4, 8, 16, …) and then stay at the size that keeps a
+/// The most samples one job may take: a 16 × 16 tile at 16 samples per pixel (a few
+/// milliseconds of `final`). Passes double (1, 1, 2, 4, 8, 16, …) and then stay at the size that keeps a
 /// job (a tile, or a row in the row modes) within this, so a cancel, which each job checks
 /// before it starts, takes effect within one short job whatever the tile size or width (the
 /// viewer's tiles are at most [`MAX_TILE`](crate::view::request::MAX_TILE) wide and its rows
