@@ -129,6 +129,20 @@ fn refused(dir: &Path, scene: &str, needle: &str) {
 }
 
 #[test]
+fn a_minimal_camera_is_told_every_missing_field_at_once_at_its_table() {
+    // A new user's first scene: serde would name `vup`, then (once fixed) `vfov`.
+    let dir = scratch("camera");
+    let sphere = "[[sphere]]\ncenter = [0.0, 0.0, -1.0]\nradius = 0.5\nmaterial = { kind = \"lambertian\", albedo = [0.5, 0.5, 0.5] }\n";
+    let text = format!(
+        "# my first scene\n\n[camera]\nlookfrom = [0.0, 0.0, 0.0]\nlookat = [0.0, 0.0, -1.0]\n\n{sphere}"
+    );
+    std::fs::write(dir.join("camera.toml"), text).unwrap();
+    refused(&dir, "camera.toml", "camera.toml:3:1: [camera] is missing fields `vup`, `vfov` (it needs");
+    std::fs::write(dir.join("none.toml"), sphere).unwrap();
+    refused(&dir, "none.toml", "none.toml:1:1: no [camera] table");
+}
+
+#[test]
 fn bad_new_world_scene_files_exit_2_with_one_line() {
     let dir = scratch("bad");
     let head = "[camera]\nlookfrom = [0.0, 0.0, 5.0]\nlookat = [0.0, 0.0, 0.0]\nvup = [0.0, 1.0, 0.0]\nvfov = 40.0\nfocus_dist = 5.0\n";
