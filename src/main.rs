@@ -1,6 +1,9 @@
 //! `raypool`: parse the command line, run it, and turn every failure into one line on stderr
 //! and exit code 2.
 
+// Like the library: the binary is safe Rust too (only the optional Embree bridge is not).
+#![forbid(unsafe_code)]
+
 use std::process::ExitCode;
 
 use clap::Parser;

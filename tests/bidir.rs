@@ -10,7 +10,6 @@ use rand::SeedableRng;
 use rand::rngs::SmallRng;
 use raypool::files::image::Image;
 use raypool::scenes::builtin::builtin_scene;
-use raypool::scenes::format::SceneFile;
 use raypool::schedule::modes::Schedule;
 use raypool::tracer::camera::{Camera, CameraSettings};
 use raypool::tracer::lighting::LightSampling;
@@ -20,15 +19,12 @@ use raypool::tracer::sampling::sampler::Sampler;
 use raypool::tracer::sampling::warp::uniform;
 use raypool::tracer::scene::Scene;
 use rooms::{
-    CAMERA, assert_within_five_errors, inward_cube, lit_room, mean_and_error, quadrant_sums, render_frame,
+    CAMERA, assert_within_five_errors, inward_cube, lit_room, mean_and_error, parse, quadrant_sums,
+    render_frame,
 };
 
 fn builtin(name: &str) -> String {
     builtin_scene(name, 0).unwrap().to_toml()
-}
-
-fn parse(text: &str) -> Scene {
-    SceneFile::parse(text, "test.toml").unwrap_or_else(|e| panic!("{e}")).to_scene()
 }
 
 #[test]

@@ -6,8 +6,10 @@
 //!   README or the book is run here, in the order written, in a temporary folder, at a small
 //!   size (`--width 48 --spp 1`), under a deadline, unless [`RUN_ELSEWHERE`] names it with the
 //!   test or script that runs it instead. `cargo run --release --` counts as `raypool`.
-//! - Every scene of the scene-format chapter (a ```` ```toml ```` block with a `[camera]`)
-//!   renders, beside the chapter's ```` ```obj ```` files.
+//! - Every ```` ```toml ```` block of the scene-format chapter is a scene that renders,
+//!   beside the chapter's ```` ```obj ```` files; except a ```` ```toml,refused ```` block, which
+//!   must be refused (exit code 2) with exactly the one line of the ```` ```text ```` block
+//!   after it.
 //! - Every chapter is in `SUMMARY.md`, and every chapter with Rust in it is included into
 //!   `src/lib.rs`, so `cargo test --doc` runs its Rust.
 //!
@@ -57,10 +59,11 @@ fn shown(path: &Path) -> String {
     path.strip_prefix(root()).unwrap_or(path).display().to_string()
 }
 
-/// A fenced code block: its language (the info string's first word) and its lines, each
-/// with its line number in the file.
+/// A fenced code block: its language (the info string's first word), its whole info string
+/// (`toml,refused`) and its lines, each with its line number in the file.
 struct Block {
     lang: String,
+    info: String,
     lines: Vec<(usize, String)>,
 }
 
@@ -75,7 +78,7 @@ fn split(text: &str) -> (Vec<Block>, Vec<(usize, &str)>) {
                 let fence: String = trimmed.chars().take_while(|c| *c == '`').collect();
                 let info = trimmed[fence.len()..].trim();
                 let lang = info.split([',', ' ']).next().unwrap_or("").to_owned();
-                open = Some((fence, Block { lang, lines: Vec::new() }));
+                open = Some((fence, Block { lang, info: info.to_owned(), lines: Vec::new() }));
             }
             None => prose.push((n, line)),
             Some((fence, block)) if trimmed.starts_with(&fence) && trimmed.trim_matches('`').is_empty() => {
@@ -324,7 +327,7 @@ fn commands_are_found_and_made_small() {
 }
 
 #[test]
-fn every_scene_of_the_scene_format_chapter_renders() {
+fn every_scene_of_the_scene_format_chapter_renders_or_is_refused_as_it_says() {
     let chapter = root().join("docs/src/scene-format.md");
     let dir = scratch("scenes");
     let blocks = split(&read(&chapter)).0;
@@ -333,27 +336,33 @@ fn every_scene_of_the_scene_format_chapter_renders() {
         let body: String = obj.lines.iter().map(|(_, l)| format!("{l}\n")).collect();
         std::fs::write(dir.join(name), body).unwrap();
     }
-    let scenes: Vec<&Block> =
-        blocks.iter().filter(|b| b.lang == "toml" && b.lines.iter().any(|(_, l)| l == "[camera]")).collect();
-    assert!(scenes.len() >= 3, "the chapter's scenes were not found");
-    for scene in scenes {
-        let at = scene.lines[0].0;
+    let (mut rendered, mut refused) = (0, 0);
+    for (k, scene) in blocks.iter().enumerate().filter(|(_, b)| b.lang == "toml") {
+        let at = format!("the scene at docs/src/scene-format.md:{}", scene.lines[0].0);
         let body: String = scene.lines.iter().map(|(_, l)| format!("{l}\n")).collect();
         std::fs::write(dir.join("scene.toml"), body).unwrap();
         let mut render = Command::new(env!("CARGO_BIN_EXE_raypool"));
-        render.args([
-            "render",
-            "--scene-file",
-            "scene.toml",
-            "--width",
-            "48",
-            "--spp",
-            "1",
-            "--out",
-            "scene.png",
-        ]);
-        run(render, &dir).unwrap_or_else(|why| panic!("the scene at docs/src/scene-format.md:{at}: {why}"));
+        render.args(["render", "--scene-file", "scene.toml", "--width", "48", "--spp", "1"]);
+        render.args(["--out", "scene.png"]);
+        let outcome = run(render, &dir);
+        if !scene.info.split(',').any(|word| word.trim() == "refused") {
+            outcome.unwrap_or_else(|why| panic!("{at}: {why}"));
+            rendered += 1;
+            continue;
+        }
+        // The chapter shows what raypool says, in the `text` block right after the scene.
+        let said = blocks.get(k + 1).filter(|b| b.lang == "text" && b.lines.len() == 1);
+        let said =
+            said.unwrap_or_else(|| panic!("{at}: follow it with a ```text block of its one-line error"));
+        let stderr = std::fs::read_to_string(dir.join(".stderr")).unwrap();
+        assert!(outcome.is_err_and(|why| why.contains("exit status: 2")), "{at}: not refused with code 2");
+        assert_eq!(stderr.trim_end(), said.lines[0].1, "{at}: the chapter quotes another message");
+        refused += 1;
     }
+    assert!(
+        rendered >= 4 && refused >= 1,
+        "{rendered} scenes and {refused} refusals found: is the parser blind?"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -2,7 +2,8 @@
 //! layer, a module uses only its own folder and the layers below it, the tracer's rooms use
 //! only the rooms before them, the viewer uses only the command line's flags and settings (not
 //! its commands), no two modules of either crate import each other, directly or through
-//! others, and no source file grows past what a student reads in one sitting.
+//! others, and no `.rs` file under `src/`, `pool/`, `tests/` or `benches/` grows past what a
+//! student reads in one sitting.
 //!
 //! Run it alone with `cargo test --release --test layers`. It reads `src/` and `pool/src/` as
 //! text: every `crate::a::b::…` path outside comments is an edge from the file that writes it
@@ -40,7 +41,7 @@ const CLI_FOR_THE_VIEWER: &[&str] = &["cli::args", "cli::settings"];
 /// The only files that may sit directly in `src/` (besides the layer folders).
 const TOP_FILES: &[&str] = &["lib.rs", "main.rs", "error.rs"];
 
-/// The most lines a source file of either crate may have: one sitting's reading.
+/// The most lines a `.rs` file under [`CAPPED`] may have: one sitting's reading.
 const MAX_LINES: usize = 450;
 
 fn rank(layer: &str) -> u32 {
@@ -257,16 +258,47 @@ fn no_module_imports_itself_through_others() {
     }
 }
 
-#[test]
-fn no_source_file_is_longer_than_one_sitting() {
-    for crate_src in ["src", "pool/src"] {
-        let mut paths = BTreeMap::new();
-        files(&root(crate_src), &[], &mut paths);
-        for path in paths.values().chain([&root(crate_src).join("lib.rs")]) {
-            let lines = std::fs::read_to_string(path).unwrap().lines().count();
-            assert!(lines <= MAX_LINES, "{} has {lines} lines, over {MAX_LINES}: split it", path.display());
+/// The folders whose every `.rs` file, at any depth, is held to [`MAX_LINES`]: both crates'
+/// sources, and the tests and benchmarks a student reads beside them.
+const CAPPED: &[&str] = &["src", "pool", "tests", "benches"];
+
+/// Every `.rs` file under `dir`, at any depth (a `target` folder left out).
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() && !path.ends_with("target") {
+            rust_files(&path, out);
+        } else if path.extension().is_some_and(|e| e == "rs") {
+            out.push(path);
         }
     }
+}
+
+/// `file (N lines)` for each file of `files` over [`MAX_LINES`].
+fn too_long(files: &[PathBuf]) -> Vec<String> {
+    files
+        .iter()
+        .filter_map(|path| {
+            let lines = std::fs::read_to_string(path).unwrap().lines().count();
+            let shown = path.strip_prefix(root("")).unwrap_or(path).display().to_string();
+            (lines > MAX_LINES).then(|| format!("{shown} ({lines} lines)"))
+        })
+        .collect()
+}
+
+#[test]
+fn no_source_file_is_longer_than_one_sitting() {
+    let mut files = Vec::new();
+    for folder in CAPPED {
+        rust_files(&root(folder), &mut files);
+    }
+    assert!(files.len() > 100, "only {} .rs files found under {CAPPED:?}: is the walk blind?", files.len());
+    let long = too_long(&files);
+    assert!(
+        long.is_empty(),
+        "over {MAX_LINES} lines, more than one sitting's reading: split each by topic, every part opening with its idea: {}",
+        long.join(", ")
+    );
 }
 
 /// The book's chapter that maps the code: it must name every folder of either crate and every
@@ -342,4 +374,19 @@ fn the_checker_sees_an_upward_import_a_later_room_a_viewer_reaching_the_command_
     );
     let graph = all.iter().map(|(m, text)| (m.clone(), uses(m, text, &all))).collect();
     assert_eq!(find_cycle(&graph).as_deref(), Some("schedule::frame → tracer::math::ray → schedule::frame"));
+}
+
+#[test]
+fn the_line_cap_names_a_long_file_and_its_length() {
+    // The cap check passes only if it can fail: a made-up file one line over the cap.
+    let dir = std::env::temp_dir().join(format!("raypool-layers-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("deep")).unwrap();
+    let (long, short) = (dir.join("deep/long.rs"), dir.join("short.rs"));
+    std::fs::write(&long, "//\n".repeat(MAX_LINES + 1)).unwrap();
+    std::fs::write(&short, "//\n".repeat(MAX_LINES)).unwrap();
+    let mut files = Vec::new();
+    rust_files(&dir, &mut files);
+    let found = too_long(&files);
+    std::fs::remove_dir_all(&dir).ok();
+    assert_eq!(found, [format!("{} ({} lines)", long.display(), MAX_LINES + 1)]);
 }

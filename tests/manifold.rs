@@ -10,7 +10,6 @@ use deadline::within;
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
 use raypool::scenes::builtin::builtin_scene;
-use raypool::scenes::format::SceneFile;
 use raypool::schedule::modes::Schedule;
 use raypool::tracer::geometry::sphere::Sphere;
 use raypool::tracer::lighting::LightSampling;
@@ -23,11 +22,7 @@ use raypool::tracer::sampling::warp::{random_unit_vector, uniform};
 use raypool::tracer::scene::Scene;
 use raypool::tracer::tile::Tile;
 use raypool::tracer::world::casters::Ball;
-use rooms::{CAMERA, inward_cube, render_frame};
-
-fn parse(text: &str) -> Scene {
-    SceneFile::parse(text, "test.toml").unwrap_or_else(|e| panic!("{e}")).to_scene()
-}
+use rooms::{CAMERA, inward_cube, parse, render_frame};
 
 fn cornell() -> Scene {
     parse(&builtin_scene("cornell", 0).unwrap().to_toml())

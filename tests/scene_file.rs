@@ -110,6 +110,23 @@ fn missing_and_unknown_fields_are_reported() {
     assert!(e.contains("vfov"), "{e}");
     let e = error_of(&MINIMAL.replace("vfov = 40.0", "vfov = 40.0\nzoom = 2.0"));
     assert!(e.contains("zoom") && e.starts_with("bad.toml:7:"), "{e}");
+    // A camera missing several fields is told all of them at once, at its table's line.
+    let e = error_of(&MINIMAL.replace("vup = [0.0, 1.0, 0.0]\nvfov = 40.0\n", ""));
+    assert_eq!(
+        e,
+        "bad.toml:2:1: [camera] is missing fields `vup`, `vfov` (it needs lookfrom, lookat, vup, vfov)"
+    );
+    let e = error_of(&format!("[materials]{}", MINIMAL.split_once("[materials]").unwrap().1));
+    assert!(e.starts_with("bad.toml:1:1: no [camera] table"), "{e}");
+    // What the message calls required is what the format requires: a camera of those fields
+    // alone parses, and without any one of them it is refused naming that one.
+    let smallest = "[camera]\nlookfrom = [0.0, 0.0, 0.0]\nlookat = [0.0, 0.0, -1.0]\nvup = [0.0, 1.0, 0.0]\nvfov = 40.0\n";
+    SceneFile::parse(smallest, "smallest.toml").unwrap_or_else(|e| panic!("{e}"));
+    for field in raypool::scenes::format::CAMERA_REQUIRED {
+        let line = smallest.lines().find(|l| l.starts_with(&format!("{field} ="))).unwrap();
+        let e = error_of(&smallest.replace(&format!("{line}\n"), ""));
+        assert!(e.starts_with(&format!("bad.toml:1:1: [camera] is missing field `{field}` (")), "{e}");
+    }
 }
 
 #[test]

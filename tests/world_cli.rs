@@ -129,6 +129,20 @@ fn refused(dir: &Path, scene: &str, needle: &str) {
 }
 
 #[test]
+fn a_minimal_camera_is_told_every_missing_field_at_once_at_its_table() {
+    // A new user's first scene: serde would name `vup`, then (once fixed) `vfov`.
+    let dir = scratch("camera");
+    let sphere = "[[sphere]]\ncenter = [0.0, 0.0, -1.0]\nradius = 0.5\nmaterial = { kind = \"lambertian\", albedo = [0.5, 0.5, 0.5] }\n";
+    let text = format!(
+        "# my first scene\n\n[camera]\nlookfrom = [0.0, 0.0, 0.0]\nlookat = [0.0, 0.0, -1.0]\n\n{sphere}"
+    );
+    std::fs::write(dir.join("camera.toml"), text).unwrap();
+    refused(&dir, "camera.toml", "camera.toml:3:1: [camera] is missing fields `vup`, `vfov` (it needs");
+    std::fs::write(dir.join("none.toml"), sphere).unwrap();
+    refused(&dir, "none.toml", "none.toml:1:1: no [camera] table");
+}
+
+#[test]
 fn bad_new_world_scene_files_exit_2_with_one_line() {
     let dir = scratch("bad");
     let head = "[camera]\nlookfrom = [0.0, 0.0, 5.0]\nlookat = [0.0, 0.0, 0.0]\nvup = [0.0, 1.0, 0.0]\nvfov = 40.0\nfocus_dist = 5.0\n";
@@ -137,6 +151,13 @@ fn bad_new_world_scene_files_exit_2_with_one_line() {
     std::fs::write(dir.join("good.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
     std::fs::write(dir.join("broken.obj"), "v 0 0 0\nv 1 0 0\nf 1 2 9\n").unwrap();
     std::fs::write(dir.join("garbage.obj"), "v one two three\nf 1 2 3\n").unwrap();
+    std::fs::write(dir.join("late.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\n# ok so far\nf 1 2 3\nf 1 2 x\n")
+        .unwrap();
+    std::fs::write(dir.join("binary.obj"), b"\x89PNG\r\n\x1a\n\0\0\0\rIHDR").unwrap();
+    // Index 4 is past the 3 vertices there are when the group `g` ends the first object
+    // (tobj checks there), though the file holds 4 in the end.
+    let ahead = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\ng later\nv 1 1 1\nf 1 2 3\n";
+    std::fs::write(dir.join("ahead.obj"), ahead).unwrap();
     let big = std::fs::File::create(dir.join("huge.obj")).unwrap();
     big.set_len(257 << 20).unwrap(); // sparse: refused by its size before a byte is read
     std::fs::create_dir_all(dir.join("inner")).unwrap();
@@ -189,8 +210,28 @@ fn bad_new_world_scene_files_exit_2_with_one_line() {
             "group #1: transform must be finite",
         ),
         ("missing.toml", mesh("nowhere.obj"), "nowhere.obj"),
-        ("malformed.toml", mesh("broken.obj"), "broken.obj"),
-        ("garbage.toml", mesh("garbage.obj"), "garbage.obj"),
+        // An OBJ's error names its line and quotes it.
+        (
+            "malformed.toml",
+            mesh("broken.obj"),
+            "'broken.obj': line 3: not a valid OBJ file (face vertex index out of bounds): \"f 1 2 9\"",
+        ),
+        (
+            "garbage.toml",
+            mesh("garbage.obj"),
+            "'garbage.obj': line 1: not a valid OBJ file (position parse error): \"v one two three\"",
+        ),
+        (
+            "late.toml",
+            mesh("late.obj"),
+            "'late.obj': line 6: not a valid OBJ file (face parse error): \"f 1 2 x\"",
+        ),
+        ("binary.toml", mesh("binary.obj"), "'binary.obj': line 1: not UTF-8 text, so not an OBJ file"),
+        (
+            "ahead.toml",
+            mesh("ahead.obj"),
+            "'ahead.obj': line 5: not a valid OBJ file (face vertex index out of bounds)",
+        ),
         ("huge.toml", mesh("huge.obj"), "larger than 256 MiB"),
         ("escape.toml", mesh("../good.obj"), "leaves the scene file's folder"),
         ("absolute.toml", mesh("/etc/passwd"), "leaves the scene file's folder"),

@@ -19,9 +19,8 @@ use raypool::tracer::math::real::{Real, to_f64};
 use raypool::tracer::render::{Adaptive, RenderSettings, default_height};
 use raypool::tracer::sampling::sampler::Sampler;
 
-use super::{
-    PRECISION, Row, Setting, cached_reference, measure_rounds, read_csv, select, time_to_reach, write_csv,
-};
+use super::report::time_to_reach;
+use super::{PRECISION, Row, Setting, cached_reference, measure_rounds, read_csv, select, write_csv};
 
 pub const SCENES: [&str; 2] = ["cornell", "cornell-smoke"];
 

@@ -5,7 +5,7 @@
 //! Run by `.ci/run` (see `pool/src/sync.rs` for what `--cfg loom` swaps):
 //!
 //! ```text
-//! RUSTFLAGS="--cfg loom" LOOM_MAX_PREEMPTIONS=3 \
+//! RUSTFLAGS="--cfg loom" LOOM_MAX_PREEMPTIONS=3 CARGO_TARGET_DIR=target/loom \
 //!     cargo test -p pool --release --lib --test loom
 //! ```
 //!

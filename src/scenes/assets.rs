@@ -4,7 +4,7 @@
 //! file's folder.
 
 use std::collections::BTreeMap;
-use std::io::{BufReader, Read};
+use std::io::{BufRead, Read};
 use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
 
@@ -191,10 +191,11 @@ fn read_capped(path: &Path) -> Result<Vec<u8>, String> {
 fn load_obj(path: &Path, scale: f64) -> Result<Mesh, String> {
     let bytes = read_capped(path)?;
     let options = tobj::LoadOptions { single_index: true, triangulate: true, ..Default::default() };
-    let (models, _) = tobj::load_obj_buf(&mut BufReader::new(&bytes[..]), &options, |_| {
+    let mut reader = Counted { rest: &bytes, lines: 0, last: b'\n' };
+    let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| {
         Err(tobj::LoadError::OpenFileFailed) // materials come from the scene file, not .mtl
     })
-    .map_err(|e| format!("not a valid OBJ file ({e})"))?;
+    .map_err(|e| obj_error(&bytes, &reader, &e))?;
     let (mut positions, mut normals, mut uvs, mut triangles) =
         (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let with_normals = models.iter().all(|m| !m.mesh.normals.is_empty());
@@ -213,6 +214,95 @@ fn load_obj(path: &Path, scale: f64) -> Result<Mesh, String> {
         triangles.extend(mesh.indices.chunks_exact(3).map(|t| [first + t[0], first + t[1], first + t[2]]));
     }
     Mesh::new(positions, normals, uvs, triangles)
+}
+
+/// The OBJ text as tobj reads it, counting the lines it has taken: tobj reads line by line and
+/// stops at the first it cannot parse, but its errors name no line.
+struct Counted<'a> {
+    rest: &'a [u8],
+    /// Line ends taken so far.
+    lines: usize,
+    /// The last byte taken (`\n` before the first).
+    last: u8,
+}
+
+impl Read for Counted<'_> {
+    fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+        let n = out.len().min(self.rest.len());
+        out[..n].copy_from_slice(&self.rest[..n]);
+        self.consume(n);
+        Ok(n)
+    }
+}
+
+impl BufRead for Counted<'_> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        Ok(self.rest)
+    }
+
+    fn consume(&mut self, n: usize) {
+        let (taken, rest) = self.rest.split_at(n);
+        self.lines += taken.iter().filter(|&&b| b == b'\n').count();
+        self.last = taken.last().copied().unwrap_or(self.last);
+        self.rest = rest;
+    }
+}
+
+/// tobj's `error` on `bytes` as one line naming the line of the file it concerns, and quoting
+/// it: the line tobj stopped at, or for an index out of bounds (found only when an object
+/// ends) the first face whose index is.
+fn obj_error(bytes: &[u8], reader: &Counted, error: &tobj::LoadError) -> String {
+    use tobj::LoadError::{FaceNormalOutOfBounds, FaceTexCoordOutOfBounds, FaceVertexOutOfBounds, ReadError};
+    let what = match error {
+        ReadError => "not UTF-8 text, so not an OBJ file".to_owned(),
+        _ => format!("not a valid OBJ file ({error})"),
+    };
+    let stopped = reader.lines + usize::from(reader.last != b'\n');
+    let line = match error {
+        FaceVertexOutOfBounds | FaceTexCoordOutOfBounds | FaceNormalOutOfBounds => face_out_of_bounds(bytes),
+        _ => Some(stopped),
+    };
+    let Some(n) = line.filter(|&n| n >= 1) else { return what };
+    let text = bytes.split(|&b| b == b'\n').nth(n - 1).unwrap_or_default();
+    let whole = String::from_utf8_lossy(text);
+    let mut quoted: String = whole.trim_end().chars().take(60).collect();
+    if whole.trim_end().chars().count() > 60 {
+        quoted += "…";
+    }
+    format!("line {n}: {what}: {quoted:?}")
+}
+
+/// The line of the first face (`f`, `l`) whose vertex, texture or normal index is outside
+/// what the file holds when its object ends (the next `o` or `g`, or the end), as tobj checks.
+fn face_out_of_bounds(bytes: &[u8]) -> Option<usize> {
+    let text = String::from_utf8_lossy(bytes);
+    let mut counts = [0i64; 3]; // v, vt, vn read so far
+    let mut pending: Vec<(usize, [i64; 3], &str)> = Vec::new(); // faces of the open object
+    let outside = |counts: &[i64; 3], (_, then, face): &(usize, [i64; 3], &str)| {
+        face.split_whitespace().skip(1).any(|corner| {
+            corner.split('/').enumerate().take(3).any(|(k, index)| match index.parse::<i64>() {
+                Ok(i) if i < 0 => then[k] + i < 0 || then[k] + i >= counts[k],
+                Ok(i) => i == 0 || i > counts[k],
+                Err(_) => false,
+            })
+        })
+    };
+    for (k, line) in text.lines().enumerate() {
+        match line.split_whitespace().next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f" | "l") => pending.push((k + 1, counts, line)),
+            Some("o" | "g") => {
+                if let Some(face) = pending.iter().find(|f| outside(&counts, f)) {
+                    return Some(face.0);
+                }
+                pending.clear();
+            }
+            _ => {}
+        }
+    }
+    pending.iter().find(|f| outside(&counts, f)).map(|f| f.0)
 }
 
 /// A PNG (or any format the build reads) as linear RGB.

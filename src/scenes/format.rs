@@ -180,7 +180,8 @@ impl SceneFile {
     fn parse_in(text: &str, origin: &str, folder: Option<&Path>) -> Result<SceneFile, Error> {
         let mut file: SceneFile = toml::from_str(text).map_err(|e| {
             let (line, col) = e.span().map_or((1, 1), |span| line_col(text, span.start));
-            let message = e.message().trim_end().replace('\n', " ");
+            let message = missing_camera_fields(text, e.message())
+                .unwrap_or_else(|| e.message().trim_end().replace('\n', " "));
             Error::new(format!("{origin}:{line}:{col}: {message}"))
         })?;
         file.validate().map_err(|e| Error::new(format!("{origin}: {e}")))?;
@@ -364,6 +365,32 @@ impl SceneFile {
             self.camera.clone(),
         )
     }
+}
+
+/// The fields a `[camera]` must give; the others have defaults (`CameraSettings`).
+pub const CAMERA_REQUIRED: [&str; 4] = ["lookfrom", "lookat", "vup", "vfov"];
+
+/// Where toml's `message` reports one missing camera field, a message naming every required
+/// field the `[camera]` table lacks: serde stops at the first, and a minimal camera would
+/// otherwise be fixed one field per run. (The error's place, the table's line, is toml's.)
+fn missing_camera_fields(text: &str, message: &str) -> Option<String> {
+    let field = message.trim().strip_prefix("missing field `")?.strip_suffix('`')?;
+    let document: toml::Table = toml::from_str(text).ok()?;
+    if field == "camera" && !document.contains_key("camera") {
+        return Some(format!("no [camera] table (a scene needs one, with {})", CAMERA_REQUIRED.join(", ")));
+    }
+    let camera = document.get("camera")?.as_table()?;
+    let missing: Vec<String> =
+        CAMERA_REQUIRED.iter().filter(|f| !camera.contains_key(**f)).map(|f| format!("`{f}`")).collect();
+    if !missing.iter().any(|m| m.trim_matches('`') == field) {
+        return None;
+    }
+    let plural = if missing.len() == 1 { "" } else { "s" };
+    Some(format!(
+        "[camera] is missing field{plural} {} (it needs {})",
+        missing.join(", "),
+        CAMERA_REQUIRED.join(", ")
+    ))
 }
 
 /// `value` as an inline TOML value.

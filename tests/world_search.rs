@@ -1,0 +1,195 @@
+//! Every way of finding a hit in the second book's world finds the same one: an instance and
+//! the same box moved by hand, a mesh's tree and every triangle tested alone, the shadow
+//! rays' search and the closest hit, a tree and a flat list at the edges of quads.
+
+mod rooms;
+
+use raypool::scenes::format::SceneFile;
+use raypool::tracer::math::ray::Ray;
+use raypool::tracer::math::real::{Real, Vec3};
+use raypool::tracer::world::object::Probe;
+use rooms::CAMERA;
+
+#[test]
+fn an_instance_hits_what_the_same_box_moved_by_hand_hits() {
+    // A box turned a quarter about y and moved, as an instance, against the box whose corners
+    // were turned and moved by hand: the same hits, to rounding, for a fan of rays.
+    let box_at = |min: [f64; 3], max: [f64; 3], transform: &str| {
+        format!(
+            "{CAMERA}[[box]]\nmin = {min:?}\nmax = {max:?}\nmaterial = {{ kind = \"lambertian\", albedo = [0.5, 0.5, 0.5] }}\n{transform}"
+        )
+    };
+    // (x, z) → (z, −x) turns [0, 1] × [0, 2] into [0, 2] × [−1, 0]; then moved by (−1, −0.5, −4).
+    let instance = box_at(
+        [0.0, 0.0, 0.0],
+        [1.0, 1.0, 2.0],
+        "transform = { rotate_y = 90.0, translate = [-1.0, -0.5, -4.0] }",
+    );
+    let by_hand = box_at([-1.0, -0.5, -5.0], [1.0, 0.5, -4.0], "");
+    let scene = |t: &str| SceneFile::parse(t, "t").unwrap().to_scene();
+    let (a, b) = (scene(&instance), scene(&by_hand));
+    let mut hits = 0;
+    for k in 0..4000 {
+        let (x, y) = ((k % 80) as Real / 40.0 - 1.0, (k / 80) as Real / 25.0 - 1.0);
+        let ray = Ray::new(Vec3::new(0.1, 0.2, 0.0), Vec3::new(x, y, -4.0));
+        let (ha, hb) = (a.hit_world(&ray, &Probe::default()), b.hit_world(&ray, &Probe::default()));
+        match (ha, hb) {
+            (Some(ha), Some(hb)) => {
+                hits += 1;
+                assert!((ha.t - hb.t).abs() <= 1e-5 * hb.t, "{ray:?}: t {} against {}", ha.t, hb.t);
+                assert!((ha.normal - hb.normal).length() < 1e-5 && ha.front_face == hb.front_face);
+                assert!((ha.point - hb.point).length() < 1e-5 * hb.t);
+            }
+            (None, None) => {}
+            (ha, hb) => panic!("{ray:?}: the instance hit {ha:?}, the box by hand {hb:?}"),
+        }
+    }
+    assert!(hits > 1000, "the fan must cross the box ({hits} hits)");
+}
+
+/// A mesh's search (its tree, and the ray's frame made once and shared by its triangles)
+/// finds exactly the hit that testing every triangle on its own finds, ties to the lower
+/// index: for rays aimed at the mesh's vertices and edge midpoints (where the f64 recompute
+/// and ties happen) and at random.
+#[test]
+fn a_mesh_search_finds_exactly_what_testing_every_triangle_finds() {
+    use raypool::measure::solids::{edges, icosphere};
+    use raypool::tracer::geometry::hit::Closest;
+    use raypool::tracer::geometry::triangle::intersect;
+    use raypool::tracer::world::mesh::Mesh;
+
+    let (points, triangles) = icosphere(3);
+    let positions: Vec<Vec3> =
+        points.iter().map(|p| Vec3::new(p.x as Real, p.y as Real, p.z as Real)).collect();
+    let mesh = Mesh::new(positions.clone(), vec![], vec![], triangles.clone()).expect("a closed mesh");
+    let every_triangle = |ray: &Ray| {
+        let mut closest = Closest::none(Real::INFINITY);
+        for (k, t) in mesh.triangles().iter().enumerate() {
+            if let Some(hit) = intersect(t.map(|i| mesh.positions()[i as usize]), ray, closest.bound()) {
+                closest.offer(hit.t, k as u32);
+            }
+        }
+        closest.found()
+    };
+    let mut targets: Vec<Vec3> = positions.clone();
+    targets.extend(edges(&triangles).iter().map(|&[a, b]| 0.5 * (positions[a] + positions[b])));
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut uniform = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 40) as Real / (1u64 << 24) as Real * 2.0 - 1.0
+    };
+    let mut rays = Vec::new();
+    for &target in &targets {
+        let origin = Vec3::new(3.0 * uniform(), 3.0 * uniform(), 3.0 + uniform());
+        rays.push(Ray::new(origin, (target - origin).normalize()));
+        // From inside, as a bounce off the far wall would start.
+        rays.push(Ray::new(0.1 * origin, (target - 0.1 * origin).normalize()));
+    }
+    for _ in 0..2000 {
+        let dir = Vec3::new(uniform(), uniform(), uniform()).normalize();
+        rays.push(Ray::new(Vec3::new(2.0 * uniform(), 2.0 * uniform(), 2.0 * uniform()), dir));
+    }
+    let mut hits = 0;
+    for ray in &rays {
+        let searched = mesh.closest(ray, Real::INFINITY).map(|(k, hit)| (k, hit.t));
+        assert_eq!(searched, every_triangle(ray), "the search and every triangle disagree on {ray:?}");
+        hits += usize::from(searched.is_some());
+    }
+    assert!(hits > rays.len() / 2, "only {hits} of {} rays hit: the test checks little", rays.len());
+}
+
+#[test]
+fn a_shadow_rays_search_finds_a_blocker_exactly_when_the_closest_hit_search_finds_one_nearer() {
+    // `Scene::occluded` (ends at the first object found) against the closest hit, on rays
+    // from points all over each scene, with search bounds around the hit's distance: through
+    // instances, meshes, media (with each ray's own medium numbers) and moving spheres.
+    use rand::{SeedableRng, rngs::SmallRng};
+    use raypool::tracer::sampling::warp::uniform;
+    for name in ["cornell", "cornell-smoke", "next-week", "mesh", "bouncing"] {
+        let scene = raypool::scenes::builtin::builtin_scene(name, 0).unwrap().to_scene();
+        use raypool::tracer::math::aabb::{Aabb, Bounded};
+        let bounds = scene.objects().iter().map(Bounded::bounds).fold(Aabb::EMPTY, Aabb::union);
+        let mut rng = SmallRng::seed_from_u64(7);
+        let (mut blocked, n) = (0u64, 20_000u64);
+        for k in 0..n {
+            let lerp = |a: Real, b: Real, t: Real| a + (b - a) * t;
+            let from = Vec3::new(
+                lerp(bounds.min.x, bounds.max.x, uniform(&mut rng)),
+                lerp(bounds.min.y, bounds.max.y, uniform(&mut rng)),
+                lerp(bounds.min.z, bounds.max.z, uniform(&mut rng)),
+            );
+            let ray = Ray::new(from, raypool::tracer::sampling::warp::random_unit_vector(&mut rng));
+            let probe = Probe { time: uniform(&mut rng), medium_seed: k };
+            let nearest = scene.hit_world(&ray, &probe).map(|hit| hit.t);
+            let t_max = match nearest {
+                Some(t) if k % 2 == 0 => t * if k % 4 == 0 { 1.001 } else { 0.999 },
+                _ => uniform(&mut rng) * 1_000.0,
+            };
+            let expected = nearest.is_some_and(|t| t < t_max);
+            assert_eq!(
+                scene.occluded(&ray, t_max, &probe),
+                expected,
+                "{name}: ray {k} {ray:?}, bound {t_max}"
+            );
+            blocked += u64::from(expected);
+        }
+        assert!(
+            blocked >= n / 50 && blocked <= n * 49 / 50,
+            "{name}: {blocked} of {n} blocked: both answers tried"
+        );
+    }
+}
+
+#[test]
+fn rays_grazing_quad_edges_find_the_same_hits_through_a_tree_as_one_by_one() {
+    // A quad accepts hits a few ulps past its edges (`quad::EDGE`); its box in a tree must
+    // reach as far, or `--accel flat` finds hits a tree skips (seen on `cornell`'s walls).
+    use rand::{SeedableRng, rngs::SmallRng};
+    use raypool::tracer::geometry::quad::{EDGE, Quad, box_faces};
+    use raypool::tracer::sampling::warp::uniform;
+    use raypool::tracer::world::object::{Group, Object};
+    let wall = |q: [f32; 3], u: [f32; 3], v: [f32; 3]| {
+        let r = |a: [f32; 3]| Vec3::new(a[0] as Real, a[1] as Real, a[2] as Real);
+        Quad::new(r(q), r(u), r(v), 0).unwrap()
+    };
+    let mut quads = vec![
+        wall([555.0, 0.0, 0.0], [0.0, 555.0, 0.0], [0.0, 0.0, 555.0]),
+        wall([0.0, 0.0, 555.0], [0.0, 555.0, 0.0], [0.0, 0.0, -555.0]),
+        wall([0.0, 0.0, 0.0], [0.0, 0.0, 555.0], [555.0, 0.0, 0.0]),
+        wall([555.0, 555.0, 555.0], [-555.0, 0.0, 0.0], [0.0, 0.0, -555.0]),
+        wall([0.0, 0.0, 555.0], [555.0, 0.0, 0.0], [0.0, 555.0, 0.0]),
+        wall([213.0, 554.0, 227.0], [130.0, 0.0, 0.0], [0.0, 0.0, 105.0]),
+    ];
+    let (a, b) = (Vec3::new(130.0, 0.0, 65.0), Vec3::new(295.0, 165.0, 230.0));
+    quads.extend(box_faces(a, b, 0).unwrap());
+    let objects: Vec<Object> = quads.iter().map(|&q| Object::Quad(q)).collect();
+    let tree = Group::with_tree(objects.clone(), true);
+    let flat = Group::with_tree(tree.objects().to_vec(), false);
+    assert!(tree.has_tree() && !flat.has_tree());
+    let mut rng = SmallRng::seed_from_u64(11);
+    let mut grazing = 0;
+    for quad in &quads {
+        for k in 0..2_000 {
+            // A point on or just past one of the four edges, seen from a random point.
+            let along = uniform(&mut rng);
+            let past = [-0.9, -0.5, 0.0, 0.5][k % 4] * EDGE;
+            let (alpha, beta) = match (k / 4) % 4 {
+                0 => (past, along),
+                1 => (1.0 - past, along),
+                2 => (along, past),
+                _ => (along, 1.0 - past),
+            };
+            let target = quad.q + alpha * quad.u + beta * quad.v;
+            let from = Vec3::new(uniform(&mut rng), uniform(&mut rng), uniform(&mut rng)) * 1_200.0
+                - Vec3::splat(300.0);
+            let Some(dir) = (target - from).try_normalize() else { continue };
+            let ray = Ray::new(from, dir);
+            let probe = Probe::default();
+            let (a, b) = (tree.hit(&ray, Real::INFINITY, &probe), flat.hit(&ray, Real::INFINITY, &probe));
+            let key = |h: Option<raypool::tracer::geometry::hit::Hit>| h.map(|h| (h.t, h.point, h.normal));
+            assert_eq!(key(a), key(b), "ray {ray:?} at α {alpha}, β {beta}");
+            grazing += usize::from(past < 0.0 && a.is_some());
+        }
+    }
+    assert!(grazing > 1_000, "only {grazing} rays past an edge hit anything");
+}
