@@ -185,6 +185,8 @@ pub struct Group {
     objects: Vec<Object>,
     tree: Option<WideBvh>,
     bounds: Aabb,
+    /// Whether a medium is among `objects` (then asked after the surfaces).
+    media: bool,
 }
 
 impl Group {
@@ -203,7 +205,8 @@ impl Group {
             let binary = Bvh::build_with_leaves(&mut objects, LEAF);
             WideBvh::collapse_plain(&binary, objects.len())
         });
-        Group { objects, tree, bounds }
+        let media = objects.iter().any(|o| matches!(o, Object::Medium(_)));
+        Group { objects, tree, bounds, media }
     }
 
     /// The same objects searched the other way (for `--accel` comparisons).
@@ -239,12 +242,21 @@ impl Group {
                 }
             }
         };
+        // Media are asked last, when the nearest surface bounds how far they must look
+        // ([`Medium::hit`] then rarely searches its boundary).
+        let mut media = Deferred::default();
+        let mut visit = |i: usize, closest: &mut Closest| {
+            if !(self.media && matches!(self.objects[i], Object::Medium(_)) && media.defer(i)) {
+                offer(i, closest)
+            }
+        };
         match &self.tree {
-            None => (0..self.objects.len()).for_each(|i| offer(i, &mut closest)),
+            None => (0..self.objects.len()).for_each(|i| visit(i, &mut closest)),
             Some(tree) => {
-                tree.traverse(ray, &mut closest, |leaf, closest| leaf.for_each(|i| offer(i, closest)))
+                tree.traverse(ray, &mut closest, |leaf, closest| leaf.for_each(|i| visit(i, closest)))
             }
         }
+        media.each(|i| offer(i, &mut closest));
         best.map(|(hit, i)| self.objects[i].with_uv(hit, probe))
     }
 
@@ -264,6 +276,30 @@ impl Group {
             }
         });
         found
+    }
+}
+
+/// Up to four objects' indices kept to be asked later; a fifth is asked at once.
+#[derive(Default)]
+struct Deferred {
+    indices: [u32; 4],
+    len: usize,
+}
+
+impl Deferred {
+    /// Keeps `i` for later; `false` when full.
+    fn defer(&mut self, i: usize) -> bool {
+        let kept = self.len < self.indices.len();
+        if kept {
+            self.indices[self.len] = i as u32;
+            self.len += 1;
+        }
+        kept
+    }
+
+    /// Calls `each` with every kept index, in the order kept.
+    fn each(&self, mut each: impl FnMut(usize)) {
+        self.indices[..self.len].iter().for_each(|&i| each(i as usize));
     }
 }
 
@@ -353,6 +389,12 @@ impl Medium {
         if self.density.is_nan() || self.density <= 0.0 {
             return None;
         }
+        // The distance is drawn first: in thin fog it mostly passes whatever was hit before,
+        // and the boundary need not be searched (the path inside is no longer than `t_max`).
+        let distance = -probe.uniform(self.id).ln() / self.density;
+        if distance.is_nan() || distance >= t_max {
+            return None;
+        }
         let first = self.boundary.hit(ray, Real::INFINITY, probe)?;
         let (enter, exit) = if first.front_face {
             // Cross into the boundary, then find where the ray leaves it.
@@ -366,8 +408,7 @@ impl Medium {
             return None;
         }
         let length = exit.min(t_max) - enter;
-        let distance = -probe.uniform(self.id).ln() / self.density;
-        if distance.is_nan() || distance >= length {
+        if distance >= length {
             return None;
         }
         let t = enter + distance;
