@@ -25,6 +25,7 @@ use crate::tracer::lighting::LightSampling;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, to_dvec3};
 use crate::tracer::sampling::independent::{PerSample, mix};
+use crate::tracer::sampling::keys::{LIGHT_PATHS_KEY, MEDIA_KEY};
 use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, Sampler};
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
@@ -109,12 +110,6 @@ impl Default for RenderSettings {
         }
     }
 }
-
-/// Mixed into the render seed for the media's numbers, so they are not any stream's.
-const MEDIA_KEY: u64 = 0x6D65_6469_6100_0000;
-
-/// Mixed into the render seed for the light paths' streams (`--light-sampling bdpt`).
-const LIGHT_PATHS_KEY: u64 = 0x6C69_6768_7473_0000;
 
 /// Russian roulette starts once a path has cast this many rays (its first bounces are
 /// where most of its light comes from, so they are never cut).

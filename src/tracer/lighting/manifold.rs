@@ -28,9 +28,11 @@
 
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::passage::{bounce_density, may_pass, solve};
-use crate::tracer::lighting::{PI, power_heuristic};
+use crate::tracer::lighting::power_heuristic;
 use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::sampling::keys::PIECE_KEY;
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
@@ -200,9 +202,6 @@ fn through(
     // cosine over π, the passage's chance T, and the spread 1/J (the module's opening).
     bounce * power_heuristic(chosen, bounce)
 }
-
-/// Keys the media numbers of a manifold sample's three pieces apart.
-const PIECE_KEY: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// How far a bounce from a diffuse hit has come on its way through a caster.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

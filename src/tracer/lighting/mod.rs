@@ -27,7 +27,9 @@ pub mod passage;
 
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::sampling::keys::GLINT_KEY;
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
@@ -73,12 +75,6 @@ impl LightSampling {
         }
     }
 }
-
-/// Keys a shadow ray's medium numbers apart from its path's.
-pub const SHADOW_KEY: u64 = 0x5ad0_0000_0000_0001;
-
-/// π in the tracer's precision.
-pub const PI: Real = std::f64::consts::PI as Real;
 
 /// The power heuristic's weight (β = 2) for a sample drawn with density `chosen` that the
 /// other strategy would have drawn with density `other`.
@@ -149,9 +145,6 @@ pub fn next_event<R: SampleRng + ?Sized>(
     let light_pdf = lights.pdf_of_sample(hit.departure(), &toward, probe.time);
     toward.emitted * (factor / (toward.pdf * chance)) * power_heuristic(chance * light_pdf, factor)
 }
-
-/// Keys a glint ray's medium numbers apart from its path's.
-pub const GLINT_KEY: u64 = 0x6711_0000_0000_0001;
 
 /// The light that glass met from outside at `hit` shows by reflection (`mis`), found by a ray
 /// of its own, and the weight of the light the path meets next. The Fresnel coin sends a path

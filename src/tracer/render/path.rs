@@ -5,12 +5,13 @@
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::manifold::{self, Passing, manifold_event};
 use crate::tracer::lighting::{
-    LightSampling, SHADOW_KEY, glint, lobe_pdf, mixture_bounce, next_event, power_heuristic, shadow_chance,
+    LightSampling, glint, lobe_pdf, mixture_bounce, next_event, power_heuristic, shadow_chance,
 };
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::render::{ROULETTE_AFTER, RenderSettings};
 use crate::tracer::sampling::independent::mix;
+use crate::tracer::sampling::keys::SHADOW_KEY;
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;

@@ -14,12 +14,10 @@
 
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::Aabb;
+use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::shading::material::{Fresnel, Material, refract};
 use crate::tracer::world::object::Object;
-
-/// π in the tracer's precision.
-const PI: Real = std::f64::consts::PI as Real;
 
 /// A solid glass ball.
 #[derive(Clone, Copy, Debug, PartialEq)]

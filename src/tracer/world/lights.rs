@@ -18,8 +18,6 @@
 //!   ([`Lights::pdf`]): a sum over the lights whose boxes the direction enters, found through
 //!   a four-wide tree of them (as a group's objects are) once there are six.
 
-use std::f64::consts::PI;
-
 use rand::Rng;
 
 use crate::tracer::accel::bvh::Bvh;
@@ -31,6 +29,7 @@ use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::triangle;
 use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::sampling::warp::uniform;
@@ -362,7 +361,7 @@ fn collect(
     let glow = |material: u32| luminance(emit(material));
     let sphere = |moving: MovingSphere| {
         let (center0, center1) = (place.point(moving.center0), place.point(moving.center1));
-        let power = glow(moving.material) * 4.0 * PI as Real * moving.radius * moving.radius;
+        let power = glow(moving.material) * 4.0 * PI * moving.radius * moving.radius;
         (Shape::Sphere(MovingSphere { center0, center1, ..moving }), power, emit(moving.material))
     };
     for object in objects {
