@@ -21,7 +21,7 @@ use crate::schedule::frame::Frame;
 use crate::schedule::modes::{Schedule, render};
 use crate::schedule::progressive::Cancel;
 use crate::schedule::random::{RngChoice, RngSource};
-use crate::tracer::lighting::LightSampling;
+use crate::tracer::lights::LightSampling;
 use crate::tracer::render::RenderSettings;
 use crate::tracer::tile::{Shard, Tile};
 

@@ -6,10 +6,10 @@
 //! value depends only on the scene, the settings and its own random streams (see
 //! `sampling/`), the image is bit-identical whatever the schedule.
 //!
-//! Two parts live beside it: [`path`], one sample's path (the book's `ray_color`), and
-//! [`edges`], the extra camera points a sample takes where its pixel may see a light.
+//! One part lives beside it: [`path`], one sample's path (the book's `ray_color`). Where a
+//! pixel may see a light, a sample also takes the extra camera points of
+//! [`crate::tracer::lighting::edges::Edges`].
 
-pub mod edges;
 pub mod path;
 
 use std::sync::Arc;
@@ -21,7 +21,8 @@ use crate::tracer::bidir::connect::{Bidir, Paths};
 use crate::tracer::bidir::splat::Splats;
 use crate::tracer::camera::{Camera, CameraSettings};
 use crate::tracer::geometry::hit::Hit;
-use crate::tracer::lighting::LightSampling;
+use crate::tracer::lighting::edges::Edges;
+use crate::tracer::lights::LightSampling;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, to_dvec3};
 use crate::tracer::sampling::independent::{PerSample, mix};
@@ -32,7 +33,6 @@ use crate::tracer::scene::Scene;
 pub use crate::tracer::tile::PixelSums;
 use crate::tracer::tile::Tile;
 use crate::tracer::world::object::Probe;
-use edges::Edges;
 use path::trace;
 
 /// Largest accepted image side, pixels (the command line and every other entry point check it).
@@ -326,7 +326,7 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
                         &mut rays,
                     );
                     // Where a pixel may see a light, its edge points count the light the
-                    // camera ray meets first, in place of the path's (`render/edges.rs`).
+                    // camera ray meets first, in place of the path's (`lighting/edges.rs`).
                     if at_edges {
                         let seen = (&*job.scene, &job.camera);
                         traced + edges.light(seen, ray.origin, (i, j), start, &mut rng, &mut rays)

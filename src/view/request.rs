@@ -25,7 +25,7 @@ use crate::measure::machine::cpus;
 use crate::scenes::format::SceneFile;
 use crate::schedule::modes::Schedule;
 use crate::schedule::random::RngChoice;
-use crate::tracer::lighting::LightSampling;
+use crate::tracer::lights::LightSampling;
 use crate::tracer::render::RenderJob;
 
 /// Largest pasted scene, bytes.

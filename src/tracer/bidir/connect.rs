@@ -13,6 +13,7 @@ use crate::tracer::bidir::vertex::{Kind, Vertex};
 use crate::tracer::bidir::walk::{Direction, walk};
 use crate::tracer::bidir::weight::{Ends, Limits, weight};
 use crate::tracer::camera::Camera;
+use crate::tracer::lights::emission::emitted_direction;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
@@ -20,7 +21,6 @@ use crate::tracer::sampling::independent::mix;
 use crate::tracer::sampling::keys::{CONNECT_KEY, LIGHT_KEY};
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::scene::Scene;
-use crate::tracer::world::emission::emitted_direction;
 use crate::tracer::world::object::Probe;
 
 /// A light path has at most this many vertices (four bounces): enough for light through a

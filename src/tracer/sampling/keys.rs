@@ -7,7 +7,7 @@
 /// Render seed → each pixel's Sobol scramble seed (`sobol.rs`).
 pub const SOBOL_KEY: u64 = 0x536F_626F_6C00_0000;
 
-/// A pixel's Sobol seed → the 2-D sequence of its edge points (`sobol.rs`, `render/edges.rs`).
+/// A pixel's Sobol seed → the 2-D sequence of its edge points (`sobol.rs`, `lighting/edges.rs`).
 pub const EDGE_KEY: u64 = 0xED6E_0000_0000_0001;
 
 /// Render seed → the seed of a path's media numbers, so they are no pixel stream's
@@ -31,7 +31,7 @@ pub const GLINT_KEY: u64 = 0x6711_0000_0000_0001;
 pub const PIECE_KEY: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// A path's media seed → its edge ray `spot`'s, XORed on with the spot's number
-/// (`render/edges.rs`).
+/// (`lighting/edges.rs`).
 pub const EDGE_RAY_KEY: u64 = 0xED6E_5000_0000_0001;
 
 /// A camera path's media seed → its light path's (`bidir/connect.rs`).
