@@ -19,7 +19,7 @@ use raypool::schedule::modes::{Schedule, render};
 use raypool::schedule::random::RngSource;
 use raypool::schedule::random::SharedRng;
 use raypool::tracer::geometry::sphere::Intersection;
-use raypool::tracer::lighting::LightSampling;
+use raypool::tracer::lights::LightSampling;
 use raypool::tracer::math::real::to_f64;
 use raypool::tracer::render::{RenderJob, RenderSettings};
 use raypool::tracer::sampling::independent::PerSample;

@@ -16,7 +16,7 @@ use raypool::measure::agreement::{BLOCK_Z, WHOLE_Z, compare, over_seeds, renders
 use raypool::measure::machine::{Machine, cpus, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::scenes::format::SceneFile;
-use raypool::tracer::lighting::LightSampling;
+use raypool::tracer::lights::LightSampling;
 use raypool::tracer::render::{Adaptive, RenderSettings};
 use raypool::tracer::sampling::sampler::Sampler;
 use raypool::tracer::scene::Scene;

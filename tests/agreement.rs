@@ -21,8 +21,8 @@ use raypool::measure::agreement::{Estimate, WHOLE_Z, compare, over_seeds, render
 use raypool::scenes::builtin::builtin_scene;
 use raypool::scenes::format::SceneFile;
 use raypool::tracer::geometry::hit::Hit;
-use raypool::tracer::lighting::LightSampling;
 use raypool::tracer::lighting::manifold::{Passing, manifold_event};
+use raypool::tracer::lights::LightSampling;
 use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::render::{Adaptive, RenderSettings};
 use raypool::tracer::sampling::sampler::Sampler;

@@ -12,7 +12,7 @@ use raypool::files::image::Image;
 use raypool::scenes::builtin::builtin_scene;
 use raypool::schedule::modes::Schedule;
 use raypool::tracer::camera::{Camera, CameraSettings};
-use raypool::tracer::lighting::LightSampling;
+use raypool::tracer::lights::LightSampling;
 use raypool::tracer::math::real::{Real, to_f64};
 use raypool::tracer::render::RenderSettings;
 use raypool::tracer::sampling::sampler::Sampler;

@@ -1,4 +1,4 @@
-//! The lights' edges (`render/edges.rs`): which pixels take edge points, and that the points
+//! The lights' edges (`lighting/edges.rs`): which pixels take edge points, and that the points
 //! change a light's edge pixels' noise, never their mean, while the path goes on as before.
 
 mod rooms;
@@ -6,9 +6,9 @@ mod rooms;
 use rand::{RngExt, SeedableRng};
 use raypool::scenes::builtin::builtin_scene;
 use raypool::tracer::camera::{Camera, CameraSettings};
+use raypool::tracer::lighting::edges::Edges;
 use raypool::tracer::math::aabb::Aabb;
 use raypool::tracer::math::real::{Real, Vec3, to_f64};
-use raypool::tracer::render::edges::Edges;
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
 use raypool::tracer::sampling::sobol::SobolStreams;
 use raypool::tracer::scene::Scene;

@@ -30,8 +30,8 @@ const LAYERS: &[(&str, u32)] = &[
 /// The tracer's rooms in reading order (`src/tracer/mod.rs`): a room may use itself and the
 /// rooms before it, never one after it.
 const TRACER_ROOMS: &[&str] = &[
-    "math", "sampling", "geometry", "shading", "accel", "world", "camera", "scene", "lighting", "splats",
-    "bidir", "tile", "render",
+    "math", "sampling", "geometry", "shading", "accel", "world", "lights", "camera", "scene", "lighting",
+    "splats", "bidir", "tile", "render",
 ];
 
 /// The only modules of the command line that the viewer may reach, directly or through them:

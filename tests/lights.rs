@@ -1,4 +1,4 @@
-//! The lights a path aims at (`world/lights.rs`): the density `Lights::pdf` gives a direction
+//! The lights a path aims at (`lights/power.rs`): the density `Lights::pdf` gives a direction
 //! is the density with which `Lights::sample` draws it. Checked by Monte Carlo with answers
 //! known otherwise: a density integrates to 1 over the sphere of directions, and the mean of
 //! `1/pdf` over sampled directions is the solid angle the lights cover.
@@ -10,12 +10,12 @@ use rand::rngs::SmallRng;
 use raypool::tracer::geometry::moving::MovingSphere;
 use raypool::tracer::geometry::quad::Quad;
 use raypool::tracer::geometry::sphere::Sphere;
+use raypool::tracer::lights::power::Lights;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::math::transform::Transform;
 use raypool::tracer::sampling::warp::random_unit_vector;
 use raypool::tracer::shading::material::Material;
-use raypool::tracer::world::lights::Lights;
 use raypool::tracer::world::mesh::Mesh;
 use raypool::tracer::world::object::{Group, Instance, Object, Probe};
 

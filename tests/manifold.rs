@@ -12,8 +12,9 @@ use rand::rngs::SmallRng;
 use raypool::scenes::builtin::builtin_scene;
 use raypool::schedule::modes::Schedule;
 use raypool::tracer::geometry::sphere::Sphere;
-use raypool::tracer::lighting::LightSampling;
 use raypool::tracer::lighting::passage::{may_pass, solve};
+use raypool::tracer::lights::LightSampling;
+use raypool::tracer::lights::casters::Ball;
 use raypool::tracer::math::real::{Vec3, to_f64};
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
 use raypool::tracer::sampling::sampler::Sampler;
@@ -21,7 +22,6 @@ use raypool::tracer::sampling::sobol::SobolStreams;
 use raypool::tracer::sampling::warp::{random_unit_vector, uniform};
 use raypool::tracer::scene::Scene;
 use raypool::tracer::tile::Tile;
-use raypool::tracer::world::casters::Ball;
 use rooms::{CAMERA, inward_cube, parse, render_frame};
 
 fn cornell() -> Scene {

@@ -13,11 +13,11 @@ use rand::SeedableRng;
 use rand::rngs::SmallRng;
 use raypool::scenes::format::SceneFile;
 use raypool::tracer::geometry::hit::Hit;
+use raypool::tracer::lights::emission::emitted_direction;
 use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::sampling::warp::random_unit_vector;
 use raypool::tracer::shading::material::Material;
 use raypool::tracer::shading::texture::Textures;
-use raypool::tracer::world::emission::emitted_direction;
 use rooms::lit_room;
 
 /// Bins in `cos θ` (about +z) and in `φ`: equal solid angle each.

@@ -58,7 +58,7 @@ fn whole_and_merged_with(
 #[test]
 fn merged_parts_equal_the_one_process_render_for_1_3_and_7_shards() {
     let modes = ["serial", "static", "interleaved", "pool-rows", "pool", "steal"];
-    // `cornell`: a lit scene, its light's edge pixels taking edge points (`render/edges.rs`).
+    // `cornell`: a lit scene, its light's edge pixels taking edge points (`lighting/edges.rs`).
     let cases = [
         (1, "16", "final"),
         (3, "16", "final"),

@@ -7,7 +7,7 @@
 mod rooms;
 
 use raypool::scenes::format::SceneFile;
-use raypool::tracer::lighting::LightSampling;
+use raypool::tracer::lights::LightSampling;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3, to_f64};
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};

@@ -5,7 +5,7 @@
 mod rooms;
 
 use raypool::scenes::format::SceneFile;
-use raypool::tracer::lighting::LightSampling;
+use raypool::tracer::lights::LightSampling;
 use raypool::tracer::math::real::{Real, Vec3, to_f64};
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
 use raypool::tracer::sampling::sobol::SobolStreams;

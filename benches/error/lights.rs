@@ -14,7 +14,7 @@ use std::path::Path;
 
 use raypool::measure::plot::{LogSeries, log_log_plot};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
-use raypool::tracer::lighting::LightSampling;
+use raypool::tracer::lights::LightSampling;
 use raypool::tracer::math::real::{Real, to_f64};
 use raypool::tracer::render::{Adaptive, RenderSettings, default_height};
 use raypool::tracer::sampling::sampler::Sampler;

@@ -14,7 +14,7 @@ use crate::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED};
 use crate::schedule::frame::DEFAULT_TILE;
 use crate::schedule::modes::Schedule;
 use crate::schedule::random::RngChoice;
-use crate::tracer::lighting::LightSampling;
+use crate::tracer::lights::LightSampling;
 use crate::tracer::render::{EDGE_SPOTS, MAX_SIDE};
 use crate::tracer::sampling::sampler::Sampler;
 use crate::tracer::scene::{Accel, Scene};

@@ -9,7 +9,7 @@ use crate::measure::machine::cpus;
 use crate::scenes::builtin::builtin_scene;
 use crate::scenes::format::SceneFile;
 use crate::schedule::random::RngChoice;
-use crate::tracer::lighting::LightSampling;
+use crate::tracer::lights::LightSampling;
 use crate::tracer::math::real::Real;
 use crate::tracer::render::{Adaptive, RenderJob, RenderSettings, default_height};
 use crate::tracer::sampling::sampler::Sampler;

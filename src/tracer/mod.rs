@@ -8,9 +8,10 @@
 //! | [`shading`] | materials (lights and fog's phase function among them), textures and the background |
 //! | [`accel`] | finding the nearest hit fast: SIMD packets, the binary tree, the four-wide tree |
 //! | [`world`] | what the second book builds from shapes: groups, meshes, instances, media |
+//! | [`lights`] | what the lights are: one `Light` per emitting shape, chosen by power, their densities, where light paths start, and the glass balls light is aimed through |
 //! | [`camera`] | rays from pixels through a thin lens |
 //! | [`scene`] | the scene that holds them all, and the one hit search that dispatches to the chosen tree |
-//! | [`lighting`] | how a path finds the lights: a material's bounce, the mixture, or multiple importance sampling |
+//! | [`lighting`] | how a path finds the lights: a material's bounce, the mixture, multiple importance sampling, manifold samples, the lights' edges |
 //! | [`splats`] | light that lands in another pixel than the sample that carried it, summed in fixed point so any order of tiles adds to the same bits |
 //! | [`bidir`] | bidirectional path tracing: camera and light paths joined, weighted over every strategy |
 //! | [`tile`] | how an image is cut into tiles, and tiles into shards; a tile's running pixel sums |
@@ -31,6 +32,7 @@ pub mod geometry;
 pub mod shading;
 pub mod accel;
 pub mod world;
+pub mod lights;
 pub mod camera;
 pub mod scene;
 pub mod lighting;

@@ -6,10 +6,10 @@
 //! value depends only on the scene, the settings and its own random streams (see
 //! `sampling/`), the image is bit-identical whatever the schedule.
 //!
-//! Two parts live beside it: [`path`], one sample's path (the book's `ray_color`), and
-//! [`edges`], the extra camera points a sample takes where its pixel may see a light.
+//! One part lives beside it: [`path`], one sample's path (the book's `ray_color`). Where a
+//! pixel may see a light, a sample also takes the extra camera points of
+//! [`crate::tracer::lighting::edges::Edges`].
 
-pub mod edges;
 pub mod path;
 
 use std::sync::Arc;
@@ -20,10 +20,12 @@ use crate::error::Error;
 use crate::tracer::bidir::connect::{Bidir, Paths};
 use crate::tracer::camera::{Camera, CameraSettings};
 use crate::tracer::geometry::hit::Hit;
-use crate::tracer::lighting::LightSampling;
+use crate::tracer::lighting::edges::Edges;
+use crate::tracer::lights::LightSampling;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, to_dvec3};
 use crate::tracer::sampling::independent::{PerSample, mix};
+use crate::tracer::sampling::keys::{LIGHT_PATHS_KEY, MEDIA_KEY};
 use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, Sampler};
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
@@ -31,7 +33,6 @@ use crate::tracer::splats::Splats;
 pub use crate::tracer::tile::PixelSums;
 use crate::tracer::tile::Tile;
 use crate::tracer::world::object::Probe;
-use edges::Edges;
 use path::trace;
 
 /// Largest accepted image side, pixels (the command line and every other entry point check it).
@@ -109,12 +110,6 @@ impl Default for RenderSettings {
         }
     }
 }
-
-/// Mixed into the render seed for the media's numbers, so they are not any stream's.
-const MEDIA_KEY: u64 = 0x6D65_6469_6100_0000;
-
-/// Mixed into the render seed for the light paths' streams (`--light-sampling bdpt`).
-const LIGHT_PATHS_KEY: u64 = 0x6C69_6768_7473_0000;
 
 /// Russian roulette starts once a path has cast this many rays (its first bounces are
 /// where most of its light comes from, so they are never cut).
@@ -331,7 +326,7 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
                         &mut rays,
                     );
                     // Where a pixel may see a light, its edge points count the light the
-                    // camera ray meets first, in place of the path's (`render/edges.rs`).
+                    // camera ray meets first, in place of the path's (`lighting/edges.rs`).
                     if at_edges {
                         let seen = (&*job.scene, &job.camera);
                         traced + edges.light(seen, ray.origin, (i, j), start, &mut rng, &mut rays)

@@ -18,13 +18,13 @@ use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::camera::CameraSettings;
 use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::sphere::{Intersection, Sphere};
+use crate::tracer::lights::casters::Casters;
+use crate::tracer::lights::power::Lights;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::Real;
 use crate::tracer::shading::background::Background;
 use crate::tracer::shading::material::Material;
 use crate::tracer::shading::texture::Textures;
-use crate::tracer::world::casters::Casters;
-use crate::tracer::world::lights::Lights;
 use crate::tracer::world::object::{Group, TREE_MIN_OBJECTS};
 use crate::tracer::world::object::{Object, Probe};
 

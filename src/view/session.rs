@@ -32,7 +32,7 @@ use crate::schedule::kept::KeptPool;
 use crate::schedule::modes::render;
 use crate::schedule::progressive::{Cancel, Pass, Sums};
 use crate::schedule::random::RngSource;
-use crate::tracer::lighting::LightSampling;
+use crate::tracer::lights::LightSampling;
 use crate::tracer::render::TileOutput;
 use crate::view::events::{frame_event, preview_event, start_event, tile_event};
 use crate::view::preview::{Preview, StartResolution, camera_rested, render_preview};

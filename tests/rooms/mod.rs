@@ -10,7 +10,7 @@ use raypool::scenes::format::SceneFile;
 use raypool::schedule::frame::Frame;
 use raypool::schedule::modes::{self, Rendered, Schedule};
 use raypool::schedule::random::{RngChoice, RngSource};
-use raypool::tracer::lighting::LightSampling;
+use raypool::tracer::lights::LightSampling;
 use raypool::tracer::math::real::Vec3;
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
 use raypool::tracer::sampling::sobol::SobolStreams;

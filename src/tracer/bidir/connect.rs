@@ -12,20 +12,16 @@ use crate::tracer::bidir::vertex::{Kind, Vertex};
 use crate::tracer::bidir::walk::{Direction, walk};
 use crate::tracer::bidir::weight::{Ends, Limits, weight};
 use crate::tracer::camera::Camera;
-use crate::tracer::lighting::PI;
+use crate::tracer::lights::emission::emitted_direction;
 use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::independent::mix;
+use crate::tracer::sampling::keys::{CONNECT_KEY, LIGHT_KEY};
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::scene::Scene;
 use crate::tracer::splats::Splats;
-use crate::tracer::world::emission::emitted_direction;
 use crate::tracer::world::object::Probe;
-
-/// Keys a light path's medium numbers apart from its camera path's.
-const LIGHT_KEY: u64 = 0x6c69_6768_7400_0000;
-/// Keys each connection's shadow-ray medium numbers apart.
-const CONNECT_KEY: u64 = 0x636f_6e6e_0000_0000;
 
 /// A light path has at most this many vertices (four bounces): enough for light through a
 /// glass ball (in, out) onto a wall and one more bounce. Longer paths are left to the camera.

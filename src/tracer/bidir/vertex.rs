@@ -15,7 +15,8 @@
 
 use crate::tracer::camera::Camera;
 use crate::tracer::geometry::hit::Hit;
-use crate::tracer::lighting::{PI, lobe_pdf};
+use crate::tracer::lighting::lobe_pdf;
+use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::shading::material::{Lobe, Material};
 use crate::tracer::shading::texture::Textures;

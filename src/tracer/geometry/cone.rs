@@ -8,13 +8,9 @@
 //! angle at the centre (pbrt-v4's `Sphere::Sample`) rather than along the ray from the point.
 //! Invariant: every direction [`Cone::draw`] returns is one [`Cone::contains`] accepts.
 
-use std::f64::consts::PI;
-
 use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
-
-/// π in the tracer's precision.
-const PI_REAL: Real = PI as Real;
 
 /// The cone a sphere fills as seen from a point outside it.
 ///
@@ -55,7 +51,7 @@ impl Cone {
     /// The density per unit solid angle of a direction drawn uniformly in it, times `chance`
     /// (one expression, so that a sample and a lookup of its point give the same bits).
     pub fn density(&self, chance: Real) -> Real {
-        chance / (2.0 * PI_REAL * self.one_minus_cos_max)
+        chance / (2.0 * PI * self.one_minus_cos_max)
     }
 
     /// Whether the unit `dir` lies in it: by the sine, whose f32 resolution stays fine near the
@@ -74,7 +70,7 @@ impl Cone {
         let one_minus_cos = a * self.one_minus_cos_max;
         let cos = 1.0 - one_minus_cos;
         let sin2 = one_minus_cos * (2.0 - one_minus_cos);
-        let (s, c) = (2.0 * PI_REAL * b).sin_cos();
+        let (s, c) = (2.0 * PI * b).sin_cos();
         let (t1, t2) = self.axis.any_orthonormal_pair();
         let across = c * t1 + s * t2;
         let dir = (cos * self.axis + sin2.sqrt() * across).normalize();

@@ -5,7 +5,7 @@
 //! meet the small lamp: fireflies for thousands of samples (`results/caustics.md`).
 //!
 //! [`manifold_event`] draws a caster and a point on a light by area (as a light path starts,
-//! `world/emission.rs`), solves for the passage that joins the hit to that point
+//! `lights/emission.rs`), solves for the passage that joins the hit to that point
 //! (`passage.rs`), and checks the three straight pieces with shadow rays. Its density is
 //! the point's, per unit area; a bounce that found the same path has density
 //! [`bounce_density`] there, and each is weighted by the power heuristic against the other.
@@ -28,14 +28,16 @@
 
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::passage::{bounce_density, may_pass, solve};
-use crate::tracer::lighting::{PI, power_heuristic};
+use crate::tracer::lighting::power_heuristic;
+use crate::tracer::lights::casters::{Ball, Passage};
+use crate::tracer::lights::emission::Emission;
 use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::sampling::keys::PIECE_KEY;
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
-use crate::tracer::world::casters::{Ball, Passage};
-use crate::tracer::world::emission::Emission;
 use crate::tracer::world::object::Probe;
 
 /// Rays a manifold sample spends beyond a shadow ray's one: the path from the hit to a light
@@ -150,7 +152,7 @@ fn aimed_density(aims: Real, pdf: Real, casters: usize) -> Real {
 /// so nothing is drawn, and a bounce that crosses that ball to a light keeps weight 1, as
 /// [`Passing::weight`] would give it there.
 ///
-/// [`Casters::may_light`]: crate::tracer::world::casters::Casters::may_light
+/// [`Casters::may_light`]: crate::tracer::lights::casters::Casters::may_light
 fn may_focus(scene: &Scene, from: Vec3) -> bool {
     let casters = scene.casters();
     (0..casters.len()).any(|k| casters.may_light(k, from))
@@ -200,9 +202,6 @@ fn through(
     // cosine over π, the passage's chance T, and the spread 1/J (the module's opening).
     bounce * power_heuristic(chosen, bounce)
 }
-
-/// Keys the media numbers of a manifold sample's three pieces apart.
-const PIECE_KEY: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// How far a bounce from a diffuse hit has come on its way through a caster.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,7 +1,8 @@
 //! **Lighting**: how a path at a diffuse surface finds the scene's lights (`--light-sampling`),
-//! the third book's importance sampling and pbrt's multiple importance sampling. The render
-//! loop (`render.rs`) calls these at each diffuse hit; the lights themselves, and the density
-//! with which each direction is drawn towards them, are `world/lights.rs`'s.
+//! the third book's importance sampling and pbrt's multiple importance sampling: the
+//! estimators, where the `lights` room holds what they aim at (the lights, and the density
+//! with which each point and direction is drawn towards them). The render loop (`render.rs`)
+//! calls these at each diffuse hit, and [`edges`] where a pixel may see a light directly.
 //!
 //! - `bsdf`: the material's bounce only; a light counts when a bounce happens to hit it.
 //! - `mixture`: the bounce drawn half the time towards a light ([`mixture_bounce`]) and
@@ -14,71 +15,31 @@
 //!   In a scene with glass balls, a diffuse hit also aims at a light *through* a ball
 //!   ([`manifold`]: manifold next-event estimation, solved in [`passage`]), weighed the same
 //!   way against the bounce that crosses the ball and meets the light.
+//! - every setting but `bdpt`: where a pixel may see a light, extra points of the pixel for
+//!   the light it sees directly ([`edges`]).
 //!
 //! Invariant: a light's point reached by a shadow ray and the same point met by a bounce are
 //! weighed by the same density ([`Lights::pdf_of_point`]), and a path's last ray gets no
 //! shadow ray (it could not have met a light by bouncing either), so the three settings
 //! estimate the same image at every `max_depth`.
 //!
-//! [`Lights::pdf_of_point`]: crate::tracer::world::lights::Lights::pdf_of_point
+//! [`Lights::pdf_of_point`]: crate::tracer::lights::power::Lights::pdf_of_point
 
 pub mod manifold;
 pub mod passage;
+pub mod edges;
 
 use crate::tracer::geometry::hit::Hit;
+use crate::tracer::lights::power::Lights;
 use crate::tracer::math::ray::Ray;
+use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::sampling::keys::GLINT_KEY;
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
 use crate::tracer::shading::material::{Lobe, Material, Scatter};
-use crate::tracer::world::lights::Lights;
 use crate::tracer::world::object::Probe;
-
-/// How paths find the lights (`--light-sampling`): three unbiased estimators of the same
-/// image, with different noise.
-///
-/// ```
-/// use raypool::tracer::lighting::LightSampling;
-/// assert_eq!(LightSampling::default(), LightSampling::Mis);
-/// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, clap::ValueEnum)]
-pub enum LightSampling {
-    /// The material's scattering only: a light is found when a bounce happens to hit it
-    /// (the second book's estimator).
-    Bsdf,
-    /// Each diffuse bounce drawn half the time towards a light, half by the material, and
-    /// weighted by the mixture's density (the third book's).
-    Mixture,
-    /// A shadow ray to a light at every diffuse hit, plus the material's bounce, each
-    /// weighted by the power heuristic (multiple importance sampling, as pbrt and Mitsuba);
-    /// with glass balls, a light sample through a ball as well (manifold next-event
-    /// estimation, as Cycles' shadow caustics).
-    #[default]
-    Mis,
-    /// Bidirectional: a path from a light as well, joined to the camera's path at every pair
-    /// of vertices, each joined path weighted by the power heuristic over all the ways of
-    /// making it (Veach's BDPT). Finds caustics the others cannot aim at.
-    Bdpt,
-}
-
-impl LightSampling {
-    /// The `--light-sampling` name.
-    pub fn name(self) -> &'static str {
-        match self {
-            LightSampling::Bsdf => "bsdf",
-            LightSampling::Mixture => "mixture",
-            LightSampling::Mis => "mis",
-            LightSampling::Bdpt => "bdpt",
-        }
-    }
-}
-
-/// Keys a shadow ray's medium numbers apart from its path's.
-pub const SHADOW_KEY: u64 = 0x5ad0_0000_0000_0001;
-
-/// π in the tracer's precision.
-pub const PI: Real = std::f64::consts::PI as Real;
 
 /// The power heuristic's weight (β = 2) for a sample drawn with density `chosen` that the
 /// other strategy would have drawn with density `other`.
@@ -149,9 +110,6 @@ pub fn next_event<R: SampleRng + ?Sized>(
     let light_pdf = lights.pdf_of_sample(hit.departure(), &toward, probe.time);
     toward.emitted * (factor / (toward.pdf * chance)) * power_heuristic(chance * light_pdf, factor)
 }
-
-/// Keys a glint ray's medium numbers apart from its path's.
-pub const GLINT_KEY: u64 = 0x6711_0000_0000_0001;
 
 /// The light that glass met from outside at `hit` shows by reflection (`mis`), found by a ray
 /// of its own, and the weight of the light the path meets next. The Fresnel coin sends a path

@@ -29,8 +29,8 @@
 
 use glam::DVec3;
 
+use crate::tracer::lights::casters::{Ball, Passage};
 use crate::tracer::math::real::{Real, Real4, Vec3};
-use crate::tracer::world::casters::{Ball, Passage};
 
 /// The angle by which a direction is turned to measure the spread of its passage.
 const STEP: Real = 1e-3;
@@ -55,7 +55,7 @@ const AIM: Real = 1e-5;
 /// use raypool::tracer::geometry::sphere::Sphere;
 /// use raypool::tracer::lighting::passage::solve;
 /// use raypool::tracer::math::real::Vec3;
-/// use raypool::tracer::world::casters::Ball;
+/// use raypool::tracer::lights::casters::Ball;
 /// let ball = Ball::new(Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }, 1.5);
 /// let (from, to) = (Vec3::new(0.3, 0.0, 4.0), Vec3::new(-0.2, 0.5, -3.0));
 /// let mut found = Vec::new();
@@ -223,7 +223,7 @@ impl Turn {
 /// use raypool::tracer::geometry::sphere::Sphere;
 /// use raypool::tracer::lighting::passage::may_pass;
 /// use raypool::tracer::math::real::Vec3;
-/// use raypool::tracer::world::casters::Ball;
+/// use raypool::tracer::lights::casters::Ball;
 /// let ball = Ball::new(Sphere { center: Vec3::new(0.0, 1.0, 0.0), radius: 1.0, material: 0 }, 1.5);
 /// let lamp = (Vec3::new(0.0, 6.0, 0.0), 0.7);
 /// assert!(may_pass(&ball, Vec3::new(0.5, 0.0, 0.0), lamp)); // the floor under it
@@ -348,7 +348,7 @@ fn close_in(
 /// use raypool::tracer::geometry::sphere::Sphere;
 /// use raypool::tracer::lighting::passage::bounce_density;
 /// use raypool::tracer::math::real::Vec3;
-/// use raypool::tracer::world::casters::Ball;
+/// use raypool::tracer::lights::casters::Ball;
 /// // A ball of index 1 bends nothing: the density is the plain `pdf · cos θ / d²`.
 /// let ball = Ball::new(Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }, 1.0);
 /// let (from, at) = (Vec3::new(0.0, 0.0, 3.0), Vec3::new(0.0, 0.0, -5.0));

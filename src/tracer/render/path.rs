@@ -4,13 +4,13 @@
 
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::manifold::{self, Passing, manifold_event};
-use crate::tracer::lighting::{
-    LightSampling, SHADOW_KEY, glint, lobe_pdf, mixture_bounce, next_event, power_heuristic, shadow_chance,
-};
+use crate::tracer::lighting::{glint, lobe_pdf, mixture_bounce, next_event, power_heuristic, shadow_chance};
+use crate::tracer::lights::LightSampling;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::render::{ROULETTE_AFTER, RenderSettings};
 use crate::tracer::sampling::independent::mix;
+use crate::tracer::sampling::keys::SHADOW_KEY;
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::sampling::warp::uniform;
 use crate::tracer::scene::Scene;
@@ -28,7 +28,7 @@ use crate::tracer::world::object::Probe;
 /// [`Probe`] carrying `time` (and, in a scene with media, a seed drawn for each ray), and every
 /// surface hit adds what it emits, weighted by the path's throughput: the first hit too if
 /// `first_light`, else the caller counts what the camera sees directly (by
-/// [`Edges`](super::edges::Edges)' points).
+/// [`Edges`](crate::tracer::lighting::edges::Edges)' points).
 #[inline(always)]
 pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
     scene: &Scene,

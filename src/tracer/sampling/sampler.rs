@@ -67,7 +67,7 @@ pub trait SampleRng: Rng {
     }
 
     /// A point in the pixel, two numbers in `[0, 1)`: the `spot`-th of the `of` extra points
-    /// this pixel sample takes to see the lights' edges (`render/edges.rs`). A low-discrepancy
+    /// this pixel sample takes to see the lights' edges (`lighting/edges.rs`). A low-discrepancy
     /// sampler takes them from a sequence of their own, `of` points per sample, so that the
     /// first `n` samples' points fill the pixel as `n × of` samples would; others draw two
     /// more numbers.

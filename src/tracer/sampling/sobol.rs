@@ -12,6 +12,7 @@ use rand_xoshiro::SplitMix64;
 
 use crate::tracer::math::real::Real;
 use crate::tracer::sampling::independent::{PerSample, mix};
+use crate::tracer::sampling::keys::{EDGE_KEY, SOBOL_KEY};
 use crate::tracer::sampling::sampler::{PixelStreams, RandomStreams, SampleRng};
 use crate::tracer::sampling::sobol_table::{PairKeys, SobolTable};
 use crate::tracer::sampling::warp::uniform;
@@ -69,7 +70,7 @@ pub struct SobolStreams {
 impl SobolStreams {
     /// The streams of render seed `seed` (`--seed`).
     pub fn new(seed: u64) -> SobolStreams {
-        SobolStreams { seed, seed_key: mix(seed ^ 0x536F_626F_6C00_0000), table: Arc::new(SobolTable::new()) }
+        SobolStreams { seed, seed_key: mix(seed ^ SOBOL_KEY), table: Arc::new(SobolTable::new()) }
     }
 
     /// Point `index` (below [`SOBOL_SAMPLES`]) of the four dimensions every set uses, Owen
@@ -286,9 +287,6 @@ impl SampleRng for SobolStream<'_> {
         [0, 1].map(|d| sobol_burley::sample(index as u32, d, seed) as Real)
     }
 }
-
-/// Keys the sequence of a pixel's edge points apart from its dimension sets.
-const EDGE_KEY: u64 = 0xED6E_0000_0000_0001;
 
 impl rand::TryRng for SobolStream<'_> {
     type Error = std::convert::Infallible;

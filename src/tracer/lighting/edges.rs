@@ -18,12 +18,10 @@ use std::ops::Range;
 
 use crate::tracer::camera::Camera;
 use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::sampling::keys::EDGE_RAY_KEY;
 use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::scene::Scene;
 use crate::tracer::world::object::Probe;
-
-/// Keys an edge ray's medium numbers apart from its path's.
-const EDGE_RAY_KEY: u64 = 0xED6E_5000_0000_0001;
 
 /// Which pixels take edge points, and how many each sample takes.
 #[derive(Clone, Debug, PartialEq)]

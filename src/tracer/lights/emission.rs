@@ -1,6 +1,6 @@
 //! Light leaving the lights: where a *light path* (bidirectional path tracing, `bidir/`)
 //! starts. The light is chosen in proportion to its power, as a shadow ray chooses it
-//! (`lights.rs`), then a point uniformly by area on it (on a whole sphere too) and a direction
+//! (`power.rs`), then a point uniformly by area on it (on a whole sphere too) and a direction
 //! from its front by the cosine law, which is how a diffuse emitter sends its light out.
 //!
 //! Invariant: every light's power is `luminance(emit) × area`, so a point on any light is
@@ -10,9 +10,11 @@
 
 use rand::Rng;
 
+use crate::tracer::lights::light::luminance;
+use crate::tracer::lights::power::Lights;
+use crate::tracer::lights::sample::LightPoint;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::warp::{random_unit_vector, uniform};
-use crate::tracer::world::lights::{Lights, Shape, luminance};
 
 /// A point drawn on a light, where a light path starts.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,28 +38,11 @@ impl Lights {
     /// sends no light out: a shadow ray never sees its front either).
     pub fn sample_emission<R: Rng + ?Sized>(&self, time: Real, rng: &mut R) -> Option<Emission> {
         let pick = uniform(rng);
-        let k = self.running.partition_point(|&r| r <= pick).min(self.shapes.len().checked_sub(1)?);
-        let (point, normal) = match &self.shapes[k] {
-            Shape::Quad(quad) => {
-                let (a, b) = (uniform(rng), uniform(rng));
-                (quad.q + a * quad.u + b * quad.v, quad.normal())
-            }
-            Shape::Triangle(p, normal, _) => {
-                let (a, b) = (uniform(rng).sqrt(), uniform(rng));
-                (p[0] + (a * (1.0 - b)) * (p[1] - p[0]) + (a * b) * (p[2] - p[0]), *normal)
-            }
-            Shape::Sphere(moving) => {
-                let sphere = moving.at(time);
-                if sphere.radius <= 0.0 {
-                    return None;
-                }
-                let normal = random_unit_vector(rng);
-                (sphere.center + sphere.radius * normal, normal)
-            }
-        };
+        let k = self.running.partition_point(|&r| r <= pick).min(self.lights.len().checked_sub(1)?);
+        let LightPoint { point, normal } = self.lights[k].emission(time, rng)?;
         let emitted = self.emit[k];
         let pdf = self.origin_pdf(emitted);
-        let offset = 32.0 * Real::EPSILON * point.abs().max_element().max(quad_size(&self.shapes[k]));
+        let offset = 32.0 * Real::EPSILON * point.abs().max_element().max(self.lights[k].size());
         (pdf > 0.0).then_some(Emission { point, normal, emitted, pdf, offset })
     }
 
@@ -74,13 +59,4 @@ impl Lights {
 /// `cos θ / π`), as a Lambertian surface scatters: two numbers.
 pub fn emitted_direction<R: Rng + ?Sized>(normal: Vec3, rng: &mut R) -> Vec3 {
     (normal + random_unit_vector(rng)).try_normalize().unwrap_or(normal)
-}
-
-/// The size of a flat light (its area's square root), so that a light path leaves a big quad
-/// far from the origin as safely as one near it; 0 for the other shapes.
-fn quad_size(shape: &Shape) -> Real {
-    match shape {
-        Shape::Quad(quad) => quad.area().sqrt(),
-        _ => 0.0,
-    }
 }

@@ -14,12 +14,10 @@
 
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::Aabb;
+use crate::tracer::math::real::consts::PI;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::shading::material::{Fresnel, Material, refract};
 use crate::tracer::world::object::Object;
-
-/// π in the tracer's precision.
-const PI: Real = std::f64::consts::PI as Real;
 
 /// A solid glass ball.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -62,7 +60,7 @@ impl Ball {
     ///
     /// ```
     /// use raypool::tracer::geometry::sphere::Sphere;
-    /// use raypool::tracer::world::casters::Ball;
+    /// use raypool::tracer::lights::casters::Ball;
     /// let ball = Ball::new(Sphere { center: Default::default(), radius: 2.0, material: 0 }, 1.5);
     /// assert_eq!(ball.turn(0.0), 0.0);
     /// assert!((ball.turn(1.0).to_degrees() - 96.38).abs() < 0.01);
@@ -78,7 +76,7 @@ impl Ball {
     /// ```
     /// use raypool::tracer::geometry::sphere::Sphere;
     /// use raypool::tracer::math::real::Vec3;
-    /// use raypool::tracer::world::casters::Ball;
+    /// use raypool::tracer::lights::casters::Ball;
     /// let ball = Ball::new(Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }, 1.5);
     /// // Straight through the centre: in at z = 2 − 1, out at z = −1, undeflected.
     /// let passage = ball.pass(Vec3::new(0.0, 0.0, 2.0), Vec3::new(0.0, 0.0, -1.0)).unwrap();
@@ -132,7 +130,7 @@ impl Ball {
     /// ```
     /// use raypool::tracer::geometry::sphere::Sphere;
     /// use raypool::tracer::math::real::Vec3;
-    /// use raypool::tracer::world::casters::Ball;
+    /// use raypool::tracer::lights::casters::Ball;
     /// let ball = Ball::new(Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }, 1.5);
     /// // A point lamp far away: the turn at the rim alone, 96°.
     /// assert!((ball.widest((Vec3::new(0.0, 1e4, 0.0), 0.0)).to_degrees() - 96.4).abs() < 0.1);
@@ -154,7 +152,7 @@ impl Ball {
     ///
     /// ```
     /// use raypool::tracer::geometry::sphere::Sphere;
-    /// use raypool::tracer::world::casters::Ball;
+    /// use raypool::tracer::lights::casters::Ball;
     /// let ball = Ball::new(Sphere { center: Default::default(), radius: 2.0, material: 0 }, 1.5);
     /// assert_eq!(ball.focus(), 3.0);
     /// ```
@@ -185,7 +183,8 @@ impl Casters {
     /// use raypool::tracer::geometry::sphere::Sphere;
     /// use raypool::tracer::math::{aabb::Aabb, real::Vec3};
     /// use raypool::tracer::shading::material::Material;
-    /// use raypool::tracer::world::{casters::Casters, object::Object};
+    /// use raypool::tracer::lights::casters::Casters;
+    /// use raypool::tracer::world::object::Object;
     /// let ball = |radius| Object::Sphere(Sphere { center: Vec3::ZERO, radius, material: 0 });
     /// let lamps = Aabb::EMPTY.grow(Vec3::new(-1.0, 5.0, -1.0)).grow(Vec3::new(1.0, 5.0, 1.0));
     /// let casters = Casters::new(&[ball(1.0), ball(-0.9)], &[Material::glass(1.5)], lamps);
