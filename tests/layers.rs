@@ -36,7 +36,7 @@ const TRACER_ROOMS: &[&str] = &[
 
 /// The only modules of the command line that the viewer may reach, directly or through them:
 /// the flags and what they resolve to, never `cli` itself or a command's file.
-const CLI_FOR_THE_VIEWER: &[&str] = &["cli::args", "cli::settings"];
+const CLI_FOR_THE_VIEWER: &[&str] = &["cli::args", "cli::settings", "cli::transport"];
 
 /// The only files that may sit directly in `src/` (besides the layer folders).
 const TOP_FILES: &[&str] = &["lib.rs", "main.rs", "error.rs"];

@@ -4,7 +4,8 @@
 //! for the memory this process may use is refused before it starts ([`memory`]).
 //!
 //! [`args`] holds the flags (clap's definition), [`settings`] what they resolve to (the scene,
-//! the render settings, the threads), and each command has a file of its own (`render.rs`,
+//! the render settings, the threads), [`transport`] the light transport and sampling they
+//! choose, every refused combination in one place, and each command has a file of its own (`render.rs`,
 //! `merge.rs`, `simulate.rs`, `scenes.rs` for `scenes` and `scene`, `bench.rs`, `grade.rs`,
 //! `compare.rs`); [`run`] only dispatches.
 //!
@@ -13,6 +14,7 @@
 
 pub mod args;
 pub mod settings;
+pub mod transport;
 pub mod interrupt;
 pub mod memory;
 mod render;

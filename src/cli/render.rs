@@ -12,6 +12,7 @@ use crate::cli::args::RenderArgs;
 use crate::cli::interrupt::Interrupt;
 use crate::cli::memory;
 use crate::cli::settings::{load_scene, render_job, render_settings, worker_threads};
+use crate::cli::transport::{Renderer, Sampling};
 use crate::denoise::denoise;
 use crate::error::Error;
 use crate::files::output::{Format, PendingOutput};
@@ -28,7 +29,7 @@ use crate::tracer::tile::{Shard, Tile};
 pub fn run(args: &RenderArgs) -> Result<(), Error> {
     let image = &args.image;
     let scene = load_scene(image)?;
-    let settings = render_settings(image, &scene, args.workers.rng)?;
+    let settings = render_settings(image, &scene, args.workers.rng, Renderer::CommandLine)?;
     let threads = worker_threads(&args.workers);
     let shard = check_shard(args, Format::from_path(&args.out)?)?;
     let pixels: usize =
@@ -120,11 +121,11 @@ fn check_shard(args: &RenderArgs, format: Format) -> Result<Shard, Error> {
 
 /// "32" for uniform sampling; "mean 41.3 of 16..1024" for adaptive sampling.
 fn spp_summary(settings: &RenderSettings, samples: u64, pixels: usize) -> String {
-    match settings.adaptive {
-        None => settings.spp.to_string(),
-        Some(a) => {
+    match Sampling::of(settings) {
+        Sampling::Fixed { spp } => spp.to_string(),
+        Sampling::Adaptive { min_spp, max_spp, .. } => {
             let mean = samples as f64 / pixels.max(1) as f64;
-            format!("mean {mean:.1} of {}..{}", a.min_spp, settings.spp)
+            format!("mean {mean:.1} of {min_spp}..{max_spp}")
         }
     }
 }

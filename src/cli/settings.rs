@@ -4,14 +4,13 @@
 //! written once; the viewer imports this file and [`crate::cli::args`], never the commands.
 
 use crate::cli::args::{ImageArgs, WorkerArgs};
+use crate::cli::transport::{Integrator, Renderer, Transport};
 use crate::error::Error;
 use crate::measure::machine::cpus;
 use crate::scenes::builtin::builtin_scene;
 use crate::scenes::format::SceneFile;
 use crate::schedule::random::RngChoice;
-use crate::tracer::lights::LightSampling;
-use crate::tracer::math::real::Real;
-use crate::tracer::render::{Adaptive, RenderJob, RenderSettings, default_height};
+use crate::tracer::render::{RenderJob, RenderSettings, default_height};
 use crate::tracer::sampling::sampler::Sampler;
 
 /// The scene chosen by `--scene` / `--scene-file`.
@@ -28,44 +27,29 @@ pub fn scene_name(args: &ImageArgs) -> String {
 }
 
 /// The render settings the flags ask for, for `scene` (whose camera gives the height when
-/// `--height` does not), with random numbers from `rng`.
-pub fn render_settings(args: &ImageArgs, scene: &SceneFile, rng: RngChoice) -> Result<RenderSettings, Error> {
+/// `--height` does not), rendered by `renderer` with random numbers from `rng`. The light
+/// transport and the sampling are admitted by [`Transport::new`].
+pub fn render_settings(
+    args: &ImageArgs,
+    scene: &SceneFile,
+    rng: RngChoice,
+    renderer: Renderer,
+) -> Result<RenderSettings, Error> {
     let height = match args.height {
         Some(h) => h,
         None => default_height(args.width, scene.camera.aspect)?,
     };
-    let adaptive = match args.target_error {
-        Some(target_error) if args.min_spp > args.max_spp => {
-            return Err(Error::new(format!(
-                "--min-spp {} is above --max-spp {} (with --target-error {target_error})",
-                args.min_spp, args.max_spp
-            )));
-        }
-        Some(target_error) => Some(Adaptive { target_error: target_error as Real, min_spp: args.min_spp }),
-        None => None,
-    };
-    if args.light_sampling == LightSampling::Bdpt {
-        let refused =
-            if adaptive.is_some() { Some("--target-error") } else { args.roulette.then_some("--roulette") };
-        if let Some(flag) = refused {
-            return Err(Error::new(format!(
-                "--light-sampling bdpt does not take {flag}: its light paths are weighed against a fixed number of samples per pixel, and it ends no path by roulette"
-            )));
-        }
-    }
-    Ok(RenderSettings {
+    let mut settings = RenderSettings {
         width: args.width,
         height,
-        spp: if adaptive.is_some() { args.max_spp } else { args.spp },
         max_depth: args.depth,
         seed: args.seed,
-        roulette: args.roulette,
-        adaptive,
         sampler: sampler(args, rng)?,
-        light_sampling: args.light_sampling,
         edge_spots: args.edge_spots,
         ..RenderSettings::default()
-    })
+    };
+    Transport::new(args, renderer)?.apply(&mut settings);
+    Ok(settings)
 }
 
 /// The sampler the flags ask for: `--sampler`, else the default ([`Sampler`]'s), except under
@@ -81,16 +65,11 @@ fn sampler(args: &ImageArgs, rng: RngChoice) -> Result<Sampler, Error> {
     }
 }
 
-/// The job to render: `scene` with the `--accel` method, under `settings`. Refused: a scene
-/// with meshes shaded by their files' normals under `--light-sampling bdpt` (see
-/// [`Scene::has_shading_normals`](crate::tracer::scene::Scene::has_shading_normals)).
+/// The job to render: `scene` with the `--accel` method, under `settings`, if their light
+/// transport admits the scene ([`Integrator::admits`]).
 pub fn render_job(args: &ImageArgs, scene: &SceneFile, settings: RenderSettings) -> Result<RenderJob, Error> {
     let scene = scene.to_scene();
-    if settings.light_sampling == LightSampling::Bdpt && scene.has_shading_normals() {
-        return Err(Error::new(
-            "--light-sampling bdpt does not take meshes shaded by their files' normals (its light paths would see them unlike the camera's): use mis",
-        ));
-    }
+    Integrator::of(&settings).admits(&scene)?;
     Ok(RenderJob::new(args.accel.apply(scene), settings))
 }
 

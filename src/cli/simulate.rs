@@ -5,6 +5,7 @@
 use crate::cli::args::SimulateArgs;
 use crate::cli::output;
 use crate::cli::settings::{load_scene, render_job, render_settings, scene_name};
+use crate::cli::transport::Renderer;
 use crate::error::Error;
 use crate::measure::machine::cpus;
 use crate::measure::scaling::{Study, measure_costs, measure_rounds, write_report};
@@ -14,7 +15,7 @@ use crate::schedule::random::RngChoice;
 pub fn run(args: &SimulateArgs) -> Result<(), Error> {
     let image = &args.image;
     let scene = load_scene(image)?;
-    let settings = render_settings(image, &scene, RngChoice::PerSample)?;
+    let settings = render_settings(image, &scene, RngChoice::PerSample, Renderer::CommandLine)?;
     let job = render_job(image, &scene, settings)?;
     let subject = format!(
         "{}, {} × {}, {} spp, depth {}, {}-pixel tiles",

@@ -20,6 +20,7 @@ use clap::{CommandFactory as _, FromArgMatches as _};
 
 use crate::cli::args::{ViewArgs, one_line};
 use crate::cli::settings::{load_scene, render_job, render_settings, scene_name, worker_threads};
+use crate::cli::transport::Renderer;
 use crate::error::Error;
 use crate::measure::machine::cpus;
 use crate::scenes::format::SceneFile;
@@ -165,10 +166,7 @@ pub fn config(
     if let Some(eye) = lookfrom {
         move_camera(&mut scene, eye)?;
     }
-    let settings = render_settings(image, &scene, args.workers.rng)?;
-    if settings.adaptive.is_some() {
-        return Err(Error::new("the viewer renders progressive passes, not adaptive sampling"));
-    }
+    let settings = render_settings(image, &scene, args.workers.rng, Renderer::Viewer)?;
     let threads = worker_threads(&args.workers);
     if threads > max_threads() {
         return Err(Error::new(format!(
