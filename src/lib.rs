@@ -5,13 +5,13 @@
 //!
 //! | layer | what it holds |
 //! |---|---|
-//! | [`tracer`] | the book's tracer, in rooms: [`tracer::math`] (numbers, rays), [`tracer::sampling`] (random numbers), [`tracer::geometry`] (shapes, hits), [`tracer::shading`] (materials, background), [`tracer::accel`] (the trees), [`tracer::scene`], [`tracer::camera`], [`tracer::tile`], and [`tracer::render`], the one render loop |
+//! | [`tracer`] | the book's tracer, in rooms: [`tracer::math`] (numbers, rays), [`tracer::sampling`] (random numbers), [`tracer::geometry`] (shapes, hits), [`tracer::shading`] (materials, background), [`tracer::accel`] (the trees), [`tracer::world`] (groups, meshes, instances, media), [`tracer::lights`], [`tracer::camera`], [`tracer::scene`], [`tracer::lighting`] (how paths find the lights), [`tracer::splats`], [`tracer::bidir`] (bidirectional paths), [`tracer::tile`], and [`tracer::render`], the one render loop |
 //! | [`scenes`] | scenes as data: the TOML [`scenes::format`] and the [`scenes::builtin`] scenes |
 //! | [`files`] | the frame buffer ([`files::image`]), the PNG/PPM/PFM/EXR writers ([`files::output`]) and the part files of sharded renders ([`files::part`]) |
 //! | [`schedule`] | who renders which tile: [`schedule::random`] (where the random numbers come from), [`schedule::progressive`] passes, [`schedule::frame`] (a render in progress), [`schedule::adaptive`] sampling's passes, the [`schedule::modes`] and the [`schedule::conformance`] check |
 //! | [`denoise`] | a few-sample image made presentable: first-hit [`denoise::guide`] buffers and the edge-avoiding [`denoise::atrous`] filter |
 //! | [`measure`] | the [`measure::speedup`] benchmark, the [`measure::scaling`] model, error ([`measure::compare`], [`measure::convergence`]), [`measure::stress`] cases, [`measure::plot`]s, the [`measure::machine`] (CPUs, thread counts, labels), the course's [`measure::grade`]r |
-//! | [`cli`] | the `raypool` command: [`cli::args`] (its flags), [`cli::settings`] (what they resolve to), a file per command, [`cli::interrupt`] (Ctrl-C) and [`cli::memory`] (will it fit?) |
+//! | [`cli`] | the `raypool` command: [`cli::args`] (its flags), [`cli::settings`] (what they resolve to), [`cli::transport`] (the light transport and sampling they choose), a file per command, [`cli::interrupt`] (Ctrl-C) and [`cli::memory`] (will it fit?) |
 //! | [`view`] | `raypool view`: the live viewer in the browser (its server, its render session, its page) |
 //!
 //! [`scenes`] and [`files`] sit side by side: neither uses the other; so do [`schedule`] and [`denoise`].

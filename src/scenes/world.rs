@@ -336,16 +336,6 @@ impl<'a> Shapes<'a> {
         s.chain(q).chain(b).chain(t).chain(self.meshes.iter().map(|x| &x.material))
     }
 
-    /// Whether there is nothing but static spheres.
-    pub fn only_still_spheres(self) -> bool {
-        self.spheres.iter().all(|s| s.center1.is_none())
-            && self.quads.is_empty()
-            && self.boxes.is_empty()
-            && self.triangles.is_empty()
-            && self.meshes.is_empty()
-            && self.media.is_empty()
-    }
-
     /// The (checked) shapes as static spheres and objects, their materials added to `tables`;
     /// `media` counts the media made so far (each gets its own id).
     pub fn build(
