@@ -152,7 +152,9 @@ fn manifold_samples_at(dx: Real) {
 /// outside it and one for a lamp point with none.
 ///
 /// Measured when written (printed): the true density passes at p = 0.16, 0.05, 0.38, 0.93
-/// (over 13 seeds, 1 of 52 below 0.05); a ±5% tilt is rejected at p < 1e-16 at each point,
+/// (over 13 seeds, 2 of 52 below 0.05, but 17 above 0.5 where 26 are expected: a slight
+/// excess of χ², too small to place; with 24² points a bin, 3 of 52 fell below 0.05, so some
+/// of it is the integration's); a ±5% tilt is rejected at p < 1e-16 at each point,
 /// and the smallest tilt rejected is ±1.5–3% (1.5%, 1.5%, 2.25%, 3%). The passages counted
 /// over 10⁶ lamp points at 2 and 10 are 0.07% and 0.08% more than the stated density's
 /// integral (0.8σ): `bounce_density`'s forward differences put the spread 0.08–0.11% below
