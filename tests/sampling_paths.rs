@@ -229,9 +229,9 @@ fn refracted_twice(scene: &Scene, light: &Vertex, d: Vec3) -> Option<[Vertex; 3]
 
 /// The density per area that a light path's vertex after the ball records: `pdf_fwd`, as
 /// `walk` sets it through `chain.rs`, for the path `refracted_twice` makes along `d`.
-fn recorded_through(scene: &Scene, light: &Vertex, d: Vec3, path: &[Vertex; 3]) -> f64 {
+fn recorded_through(scene: &Scene, camera: &Camera, light: &Vertex, d: Vec3, path: &[Vertex; 3]) -> f64 {
     let (probe, mut rays) = (Probe { time: 0.0, medium_seed: 0 }, 0);
-    let pdf = light.direction_pdf(d, &Camera::new(&scene.camera, 1, 1));
+    let pdf = light.direction_pdf(d, camera);
     let chain = Chain { vertices: &path[..2], backwards: false };
     f64::from(density_through(scene, light, d, pdf, chain, &path[2], probe, &mut rays))
 }
@@ -309,7 +309,7 @@ fn light_path_vertices_lie_as_densely_as_they_record() {
             if path.len() == 4 && glass(&path[1]) && glass(&path[2]) {
                 let Some(cell) = floor_cell(&path[3]) else { continue };
                 let again = refracted_twice(&scene, &light, dir).expect("the same path");
-                let stated = recorded_through(&scene, &light, dir, &again);
+                let stated = recorded_through(&scene, &camera, &light, dir, &again);
                 assert!((f64::from(path[3].pdf_fwd) - stated).abs() <= 1e-4 * stated, "{:?}", path[3]);
                 if stated == 0.0 {
                     unmeasured += 1;
@@ -349,7 +349,8 @@ fn light_path_vertices_lie_as_densely_as_they_record() {
             }
             let (transmitted, spread) =
                 (f64::from(passage.transmitted), f64::from(passage.transmitted / bounce));
-            let count = recorded_through(&scene, &light, d, &path) * transmitted * spread * solid_angle;
+            let count =
+                recorded_through(&scene, &camera, &light, d, &path) * transmitted * spread * solid_angle;
             expected[cell] += count * PATHS as f64;
             tilted[cell] +=
                 count * PATHS as f64 * (1.0 + 0.05 * f64::from((path[2].point.x - 190.0).signum()));
