@@ -5,10 +5,13 @@
 //!
 //! Each test also runs the same statistic against a deliberately wrong density (the stated
 //! one tilted by ±5% across the sphere) and asserts that it is rejected: that is the power
-//! the test states, measured in the test itself.
+//! the test states, measured in the test itself. The machinery is `chi_squared/`, shared with
+//! `sampling_paths.rs` (manifold samples and light paths through cornell's glass ball).
 
+mod chi_squared;
 mod rooms;
 
+use chi_squared::{Cone, assert_fits};
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
 use raypool::scenes::format::SceneFile;
@@ -24,81 +27,6 @@ use rooms::lit_room;
 const Z_BINS: usize = 16;
 const PHI_BINS: usize = 32;
 const SAMPLES: usize = 200_000;
-const TAU: f64 = std::f64::consts::TAU;
-
-/// The bin of a unit direction.
-fn bin(d: Vec3) -> usize {
-    let z = ((f64::from(d.z) + 1.0) / 2.0 * Z_BINS as f64).clamp(0.0, Z_BINS as f64 - 1.0) as usize;
-    let phi = f64::from(d.y).atan2(f64::from(d.x)).rem_euclid(TAU) / TAU * PHI_BINS as f64;
-    z * PHI_BINS + (phi as usize).min(PHI_BINS - 1)
-}
-
-/// The expected count in every bin of `n` directions of density `pdf` (per solid angle),
-/// by the midpoint rule on 64 × 64 points of each bin, spaced evenly in angle (even in
-/// `cos θ`, they would leave a small light near a pole between them).
-fn expected(pdf: &dyn Fn(Vec3) -> f64, n: usize) -> Vec<f64> {
-    const SUB: usize = 64;
-    let dphi = TAU / PHI_BINS as f64;
-    let mut counts = vec![0.0; Z_BINS * PHI_BINS];
-    for (b, count) in counts.iter_mut().enumerate() {
-        let (zi, pi) = (b / PHI_BINS, b % PHI_BINS);
-        let edge = |z: usize| (-1.0 + 2.0 * z as f64 / Z_BINS as f64).clamp(-1.0, 1.0).acos();
-        let (from, to) = (edge(zi + 1), edge(zi));
-        let dtheta = (to - from) / SUB as f64;
-        for (i, j) in (0..SUB * SUB).map(|k| (k / SUB, k % SUB)) {
-            let theta = from + dtheta * (i as f64 + 0.5);
-            let phi = dphi * (pi as f64 + (j as f64 + 0.5) / SUB as f64);
-            let (sin, z) = theta.sin_cos();
-            let dir = Vec3::new((sin * phi.cos()) as Real, (sin * phi.sin()) as Real, z as Real);
-            *count += pdf(dir) * sin * dtheta * dphi / SUB as f64 * n as f64;
-        }
-    }
-    counts
-}
-
-/// Pearson's χ² of `observed` against `expected`, bins expecting fewer than 5 pooled into
-/// one, and the upper-tail probability of it (Wilson–Hilferty's normal approximation).
-/// Directions that the density says cannot occur (expected 0) fail at once.
-fn chi_squared_p(observed: &[usize], expected: &[f64]) -> f64 {
-    let (mut chi2, mut dof, mut pooled) = (0.0, 0usize, (0.0, 0.0));
-    for (&o, &e) in observed.iter().zip(expected) {
-        if e < 5.0 {
-            pooled = (pooled.0 + o as f64, pooled.1 + e);
-        } else {
-            chi2 += (o as f64 - e).powi(2) / e;
-            dof += 1;
-        }
-    }
-    if pooled.1 >= 5.0 {
-        chi2 += (pooled.0 - pooled.1).powi(2) / pooled.1;
-        dof += 1;
-    } else if pooled.0 > pooled.1 + 5.0 * (pooled.1 + 1.0).sqrt() {
-        return 0.0;
-    }
-    let k = (dof - 1) as f64;
-    let z = ((chi2 / k).cbrt() - (1.0 - 2.0 / (9.0 * k))) / (2.0 / (9.0 * k)).sqrt();
-    0.5 * libm_erfc(z / std::f64::consts::SQRT_2)
-}
-
-/// The complementary error function (Numerical Recipes' Chebyshev fit, |error| < 1.2e-7).
-fn libm_erfc(x: f64) -> f64 {
-    let t = 1.0 / (1.0 + 0.5 * x.abs());
-    let poly = [
-        -1.26551223,
-        1.00002368,
-        0.37409196,
-        0.09678418,
-        -0.18628806,
-        0.27886807,
-        -1.13520398,
-        1.48851587,
-        -0.82215223,
-        0.17087277,
-    ];
-    let sum = poly.iter().rev().fold(0.0, |acc, c| acc * t + c);
-    let r = t * (-x * x + sum).exp();
-    if x >= 0.0 { r } else { 2.0 - r }
-}
 
 /// The significance each test rejects at: 1%, split over the seven checks (Bonferroni).
 const ALPHA: f64 = 0.01 / 7.0;
@@ -111,10 +39,11 @@ fn assert_draws_follow(
     pdf: &dyn Fn(Vec3) -> f64,
 ) {
     let mut rng = SmallRng::seed_from_u64(name.len() as u64 * 7919);
-    let mut observed = vec![0usize; Z_BINS * PHI_BINS];
+    let sphere = Cone::sphere(Z_BINS, PHI_BINS);
+    let mut observed = vec![0usize; sphere.len()];
     for _ in 0..SAMPLES {
         if let Some(d) = draw(&mut rng) {
-            observed[bin(d)] += 1;
+            observed[sphere.bin(d).expect("the whole sphere")] += 1;
         }
     }
     // Shape, not total: the counts are compared with the density scaled to the draws made
@@ -124,14 +53,10 @@ fn assert_draws_follow(
         let total = counts.iter().sum::<f64>();
         counts.into_iter().map(|c| c * drawn / total).collect::<Vec<_>>()
     };
-    let p = chi_squared_p(&observed, &scaled(expected(pdf, SAMPLES)));
-    assert!(p > ALPHA, "{name}: the directions drawn do not follow the stated density (p = {p:.2e})");
-    let tilted = |d: Vec3| pdf(d) * (1.0 + 0.05 * f64::from(d.x.signum()));
-    let p_wrong = chi_squared_p(&observed, &scaled(expected(&tilted, SAMPLES)));
-    assert!(
-        p_wrong < ALPHA,
-        "{name}: a density 5% off in half the sphere would pass too (p = {p_wrong:.2e})"
-    );
+    let tilted = |d: Vec3| pdf(d) * (1.0 + 0.05 * sphere.side(d));
+    let expected = scaled(sphere.expected(pdf, SAMPLES, 64));
+    let wrong = scaled(sphere.expected(&tilted, SAMPLES, 64));
+    assert_fits(name, &observed, (&expected, &wrong), 1, ALPHA);
 }
 
 #[test]
@@ -206,9 +131,6 @@ fn light_points_for_manifold_samples_and_light_paths_are_uniform_over_the_lamp()
         observed[cell(emission.point)] += 1;
     }
     let uniform = vec![SAMPLES as f64 / 256.0; 256];
-    let p = chi_squared_p(&observed, &uniform);
-    assert!(p > ALPHA, "the lamp's points are not uniform (p = {p:.2e})");
     let tilted: Vec<f64> = (0..256).map(|k| uniform[k] * if k < 128 { 1.05 } else { 0.95 }).collect();
-    let p_wrong = chi_squared_p(&observed, &tilted);
-    assert!(p_wrong < ALPHA, "a density 5% off in half the lamp would pass too (p = {p_wrong:.2e})");
+    assert_fits("the lamp's points", &observed, (&uniform, &tilted), 1, ALPHA);
 }
