@@ -33,13 +33,13 @@ use raypool::tracer::bidir::vertex::Vertex;
 use raypool::tracer::bidir::walk::{Direction, walk};
 use raypool::tracer::camera::Camera;
 use raypool::tracer::lighting::passage::{bounce_density, land, may_pass, solve};
+use raypool::tracer::lights::casters::{Ball, Passage};
+use raypool::tracer::lights::emission::emitted_direction;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::sampling::warp::uniform;
 use raypool::tracer::scene::Scene;
 use raypool::tracer::shading::material::{Material, refract};
-use raypool::tracer::world::casters::{Ball, Passage};
-use raypool::tracer::world::emission::emitted_direction;
 use raypool::tracer::world::object::Probe;
 
 /// The significance each check rejects at: 1%, split over the eight that run (Bonferroni).
