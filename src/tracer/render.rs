@@ -33,7 +33,7 @@ use crate::tracer::scene::Scene;
 pub use crate::tracer::tile::PixelSums;
 use crate::tracer::tile::Tile;
 use crate::tracer::world::object::Probe;
-use path::trace;
+use path::{CameraRay, trace};
 
 /// Largest accepted image side, pixels (the command line and every other entry point check it).
 pub const MAX_SIDE: u32 = 16384;
@@ -319,7 +319,7 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
                     let traced = trace::<_, WORLD>(
                         &job.scene,
                         &closest_hit,
-                        (ray, !at_edges),
+                        CameraRay { ray, first_light: !at_edges },
                         start,
                         &job.settings,
                         &mut rng,
