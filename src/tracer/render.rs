@@ -17,7 +17,7 @@ use std::thread::ThreadId;
 use std::time::Duration;
 
 use crate::error::Error;
-use crate::tracer::bidir::connect::{Bidir, Paths};
+use crate::tracer::bidir::connect::{Bidir, Paths, Streams};
 use crate::tracer::bidir::splat::Splats;
 use crate::tracer::camera::{Camera, CameraSettings};
 use crate::tracer::geometry::hit::Hit;
@@ -305,15 +305,8 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
             let value = match (&bidir, &light_pixel) {
                 (Some(bidir), Some(light_pixel)) => {
                     let mut light_rng = light_pixel.stream(sample as u64);
-                    bidir.sample(
-                        ray,
-                        start,
-                        &mut rng,
-                        &mut light_rng,
-                        &mut paths,
-                        &mut sums.splats,
-                        &mut rays,
-                    )
+                    let streams = Streams { camera: &mut rng, light: &mut light_rng };
+                    bidir.sample(ray, start, streams, &mut paths, &mut sums.splats, &mut rays)
                 }
                 _ => {
                     let traced = trace::<_, WORLD>(
@@ -328,8 +321,7 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
                     // Where a pixel may see a light, its edge points count the light the
                     // camera ray meets first, in place of the path's (`lighting/edges.rs`).
                     if at_edges {
-                        let seen = (&*job.scene, &job.camera);
-                        traced + edges.light(seen, ray.origin, (i, j), start, &mut rng, &mut rays)
+                        traced + edges.light(ray.origin, i, j, start, &mut rng, &mut rays)
                     } else {
                         traced
                     }

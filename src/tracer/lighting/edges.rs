@@ -23,25 +23,28 @@ use crate::tracer::sampling::sampler::SampleRng;
 use crate::tracer::scene::Scene;
 use crate::tracer::world::object::Probe;
 
-/// Which pixels take edge points, and how many each sample takes.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Edges {
+/// Which pixels of a camera's image take edge points of a scene, and how many each sample
+/// takes.
+#[derive(Clone, Debug)]
+pub struct Edges<'a> {
+    scene: &'a Scene,
+    camera: &'a Camera,
     columns: Range<u32>,
     rows: Range<u32>,
     /// Points per sample in those pixels (0: none anywhere).
     pub spots: u32,
 }
 
-impl Edges {
+impl<'a> Edges<'a> {
     /// `spots` points per sample in the pixels of `camera` that may see one of `scene`'s lights
     /// (none in a scene without lights).
-    pub fn new(scene: &Scene, camera: &Camera, spots: u32) -> Edges {
+    pub fn new(scene: &'a Scene, camera: &'a Camera, spots: u32) -> Edges<'a> {
         let [columns, rows] = if spots == 0 || scene.lights().is_empty() {
             [0..0, 0..0]
         } else {
             camera.pixels_seeing(&scene.lights().bounds)
         };
-        Edges { columns, rows, spots }
+        Edges { scene, camera, columns, rows, spots }
     }
 
     /// Whether pixel `(i, j)` takes edge points.
@@ -55,13 +58,14 @@ impl Edges {
     /// Counts the rays cast in `rays`.
     pub fn light<R: SampleRng + ?Sized>(
         &self,
-        (scene, camera): (&Scene, &Camera),
         origin: Vec3,
-        (i, j): (u32, u32),
+        i: u32,
+        j: u32,
         probe: Probe,
         rng: &mut R,
         rays: &mut u64,
     ) -> Vec3 {
+        let (scene, camera) = (self.scene, self.camera);
         let box_of_lights = &scene.lights().bounds;
         let mut sum = Vec3::ZERO;
         for spot in 0..self.spots {

@@ -11,7 +11,9 @@
 
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::manifold::{self, Passing, manifold_event};
-use crate::tracer::lighting::{glint, lobe_pdf, mixture_bounce, next_event, power_heuristic, shadow_chance};
+use crate::tracer::lighting::{
+    Odds, glint, lobe_pdf, mixture_bounce, next_event, power_heuristic, shadow_chance,
+};
 use crate::tracer::lights::LightSampling;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
@@ -229,7 +231,7 @@ impl<'a, const WORLD: bool> Path<'a, WORLD> {
         cast: Cast,
         rays: &mut u64,
     ) {
-        let (shown, next) = glint(self.scene, (hit, material), (incoming, onward), self.probe(cast), rays);
+        let (shown, next) = glint(self.scene, hit, material, incoming, onward, self.probe(cast), rays);
         self.radiance += self.throughput * shown;
         self.mirrored = next;
     }
@@ -261,18 +263,18 @@ impl<'a, const WORLD: bool> Path<'a, WORLD> {
         // One coin, the light sample's first number, for the shadow ray and the aims through
         // glass: each is taken where it falls below its own chance.
         let (coin, aim) = (uniform(rng), shadow_chance(carried));
-        let direct = next_event(self.scene, hit, lobe, shadow, (coin, aim), rng, rays);
+        let direct = next_event(self.scene, hit, lobe, shadow, Odds { coin, chance: aim }, rng, rays);
         self.radiance += carried * direct;
         let bsdf_pdf = lobe_pdf(lobe, scatter.direction, hit.normal);
         self.weighed = Some(Weighed { from: hit.departure(), bsdf_pdf, chance: aim });
         if self.caustics && lobe == Lobe::Cosine && cast.n + manifold::RAYS <= self.settings.max_depth {
             // Fewer solves where the path carries little (`lighting/manifold.rs`).
             let chance = (2.0 * carried.max_element()).min(1.0);
-            let focused = manifold_event(self.scene, hit, (cast.n - 1, coin, chance), shadow, rng, rays);
+            let odds = Odds { coin, chance };
+            let focused = manifold_event(self.scene, hit, cast.n - 1, odds, shadow, rng, rays);
             self.radiance += carried * focused;
-            let taken = (cast.n - 1, chance);
-            self.passing =
-                Some(Passing::leave(self.scene, hit.departure(), scatter.direction, bsdf_pdf, taken));
+            let (from, dir) = (hit.departure(), scatter.direction);
+            self.passing = Some(Passing::leave(self.scene, from, dir, bsdf_pdf, cast.n - 1, chance));
         }
     }
 
