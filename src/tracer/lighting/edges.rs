@@ -11,7 +11,7 @@
 //!
 //! Only pixels whose rays may meet the lights' box take them ([`Camera::pixels_seeing`]), and
 //! a point whose ray misses that box casts nothing. With Sobol the points come from a
-//! sequence of the pixel's own, `spots` per sample ([`SampleRng::edge_spot`]), so a pixel's
+//! sequence of the pixel's own, `spots` per sample ([`SampleRng::pixel_point`]), so a pixel's
 //! first `n` samples place `n × spots` points as evenly as that many samples would.
 
 use std::ops::Range;
@@ -69,7 +69,7 @@ impl<'a> Edges<'a> {
         let box_of_lights = &scene.lights().bounds;
         let mut sum = Vec3::ZERO;
         for spot in 0..self.spots {
-            let ray = camera.ray_from(origin, i, j, rng.edge_spot(spot, self.spots));
+            let ray = camera.ray_from(origin, i, j, rng.pixel_point(spot, self.spots));
             if !box_of_lights.hit(ray.origin, ray.dir.recip(), Real::INFINITY) {
                 continue;
             }

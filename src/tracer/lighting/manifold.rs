@@ -87,7 +87,7 @@ pub fn manifold_event<R: SampleRng + ?Sized>(
     let (first, aims) = (if bounce == 0 { 0 } else { FIRST_POINTS + bounce - 1 }, points(bounce, near));
     let (mut focused, mut allowed) = (Vec3::ZERO, Allowed::default());
     for aim in first..first + aims {
-        rng.caustic(aim);
+        rng.light_through_glass(aim);
         focused += aim_once(scene, hit, &mut allowed, chance * aims as Real, probe, rng, rays);
     }
     focused
