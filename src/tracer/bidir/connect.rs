@@ -28,14 +28,14 @@ use crate::tracer::world::object::Probe;
 pub const LIGHT_VERTICES: usize = 5;
 /// A light path's vertices are joined to the camera path's first this-many-minus-one bounces
 /// (the first only): joining them to later bounces too bought no measurable error on `cornell`
-/// for 12% more time (`results/bdpt.md`).
+/// for more time (`results/bdpt.md`).
 pub const CONNECT_VERTICES: usize = 2;
 
 /// Light tracing's density is weighed at this share against the other strategies'. Its light
 /// paths draw independent numbers, while the camera's strategies draw Sobol points, whose error
-/// falls faster than the densities say: at full share light tracing took 97% of the weight of
-/// directly lit walls and `cornell-smoke`'s error per sample was 1.5× `mis`'s; at 0.1, 0.87×
-/// (`results/bdpt.md`). Any share keeps the weights a partition of 1, so the image unbiased.
+/// falls faster than the densities say: at full share light tracing took nearly all the weight
+/// of directly lit walls and `cornell-smoke`'s error per sample was above `mis`'s; at 0.1,
+/// below it (`results/bdpt.md`). Any share keeps the weights a partition of 1, so the image unbiased.
 pub const LIGHT_TRACING_SHARE: Real = 0.1;
 
 /// What stays the same for every sample of a render.

@@ -2,12 +2,12 @@
 //!
 //! A pixel that holds the edge of a light sees, sample by sample, either the light (on
 //! `cornell`, 15) or the ceiling beside it (under 1): the widest spread of any pixel, and one
-//! no light sampling touches. On `cornell` at 64 spp these pixels held a third of `mis`'s
-//! squared error (4% with 16 points). What the pixel sees of the light is cheap to find (a ray and no bounce), so
-//! each sample there looks through [`Edges::spots`] more points of the pixel for light alone,
-//! and counts their mean instead of what its own first hit emits; the path goes on from its
-//! own hit as before. The estimate stays unbiased: every point is uniform in the pixel, so
-//! each one's light has the mean of the first hit's.
+//! no light sampling touches (on `cornell`, a large share of `mis`'s squared error:
+//! `results/lights.md`). What the pixel sees of the light is cheap to find (a ray and no
+//! bounce), so each sample there looks through [`Edges::spots`] more points of the pixel for
+//! light alone, and counts their mean instead of what its own first hit emits; the path goes
+//! on from its own hit as before. The estimate stays unbiased: every point is uniform in the
+//! pixel, so each one's light has the mean of the first hit's.
 //!
 //! Only pixels whose rays may meet the lights' box take them ([`Camera::pixels_seeing`]), and
 //! a point whose ray misses that box casts nothing. With Sobol the points come from a

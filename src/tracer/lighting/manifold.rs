@@ -12,10 +12,10 @@
 //! [`Passing`] follows a bounce on its way, so that a light it meets after crossing a caster
 //! gets that weight.
 //!
-//! Most manifold samples find nothing. On `cornell`, 56% of them end at once (`may_focus`: one
-//! product per caster says no light can reach the hit through it), 76% before a light point is
-//! drawn ([`may_pass`] for the caster drawn), half the solves left end at their bound, and 1.5%
-//! of the samples find a passage (`results/mnee.md`). A path meets many diffuse hits in a
+//! Most manifold samples find nothing: most end at once (`may_focus`: one product per caster
+//! says no light can reach the hit through it) or before a light point is drawn ([`may_pass`]
+//! for the caster drawn), and many of the solves left end at their bound (how many, on
+//! `cornell`: `results/mnee.md`). A path meets many diffuse hits in a
 //! closed room, most of them carrying little light: so a hit takes a manifold sample with the
 //! chance `min(1, 2 × the path's throughput after it)` (every hit of a path's first bounces,
 //! fewer later), and the sample is divided by that chance and its density multiplied by it
@@ -48,10 +48,8 @@ pub const RAYS: u32 = 3;
 /// Sobol set, their estimates averaged: two at a path's first hit (the one the camera sees,
 /// where a caustic's noise shows), eight there if the hit is `near` a ball's focus (where its
 /// caustic is brightest, and most of the light points drawn find no passage), one after
-/// (where `near` is not asked).
-/// Measured (`results/mnee.md`): on `cornell`, two at every hit gave 12.4% less error for 6–12%
-/// more time, and two at the first hit only did as well; on `next-week`, two at every hit cost
-/// 8% more time for no less error, two at the first hit 1.6%.
+/// (where `near` is not asked). Two at the first hit only did as well on `cornell` as two at
+/// every hit, which on `next-week` cost time for no less error (`results/mnee.md`).
 pub fn points(bounce: u32, near: bool) -> u32 {
     match (bounce, near) {
         (0, true) => FIRST_POINTS,

@@ -150,9 +150,8 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
 }
 
 /// How far below both its neighbours' misses the middle try's must dip for [`solve`] to seek
-/// a fold there. Shallower dips rarely hide passages. On `cornell` (80², 256 spp, one seed),
-/// a quarter of the solves have a dip, and 332 of their 142,739 dips hide passages; this
-/// depth leaves 95.5% of the others unsought and keeps 99.4% of those.
+/// a fold there. Shallower dips rarely hide passages: this depth leaves most dips unsought and
+/// keeps nearly all of those that hide one (counted on `cornell`: `results/mnee.md`).
 const FOLD_DEPTH: Real = 0.9;
 
 /// The most golden-section steps [`turning_point`] takes: they narrow its interval to 0.07%.
@@ -227,7 +226,8 @@ impl Turn {
 /// sphere `lamps` at all: `within_reach` for the whole sphere at once,
 /// with the nearest of its distances from the ball's centre and the smallest of its angles
 /// from straight on. A hit it rules out needs no manifold sample (its solves would all end
-/// at the bound); on `cornell`, 76% of the hits that take a manifold sample.
+/// at the bound); on `cornell`, most of the hits that take a manifold sample
+/// (`results/mnee.md`).
 ///
 /// ```
 /// use raypool::tracer::geometry::sphere::Sphere;
