@@ -21,6 +21,7 @@ use raypool::measure::agreement::{Estimate, WHOLE_Z, compare, over_seeds, render
 use raypool::scenes::builtin::builtin_scene;
 use raypool::scenes::format::SceneFile;
 use raypool::tracer::geometry::hit::Hit;
+use raypool::tracer::lighting::Odds;
 use raypool::tracer::lighting::manifold::{Passing, manifold_event};
 use raypool::tracer::lights::LightSampling;
 use raypool::tracer::math::real::{Real, Vec3};
@@ -79,10 +80,11 @@ fn through_the_ball_at(scene: &Scene, k: usize, dx: Real, n: usize) -> (Vec<f64>
     let mut rng = SmallRng::seed_from_u64(dx.to_bits() as u64 ^ k as u64);
     let (mut alone, mut weighed, mut rays) = (Vec::new(), Vec::new(), 0);
     for _ in 0..n {
-        let manifold = manifold_event(scene, &hit, (1, 0.0, 1.0), probe, &mut rng, &mut rays).y;
+        let manifold =
+            manifold_event(scene, &hit, 1, Odds { coin: 0.0, chance: 1.0 }, probe, &mut rng, &mut rays).y;
         let dir = (Vec3::Y + random_unit_vector(&mut rng)).normalize();
         let mut passing =
-            Some(Passing::leave(scene, point, dir, dir.y / std::f64::consts::PI as Real, (1, 1.0)));
+            Some(Passing::leave(scene, point, dir, dir.y / std::f64::consts::PI as Real, 1, 1.0));
         let (mut ray, mut refractions) = (hit.spawn(dir), 0);
         let (mut light, mut weight) = (0.0, 1.0);
         // Into a ball, out of it, to the lamp: a bounce is followed while it refracts; any

@@ -133,7 +133,8 @@ fn edge_points_leave_the_rest_of_a_path_as_it_was() {
         render_tile(&job, &SobolStreams::new(3), Tile { x: 0, y: 0, width: side, height: side }).pixels
     };
     let (with, without) = (render(16), render(0));
-    let edges = Edges::new(&scene, &Camera::new(&scene.camera, side, side), 16);
+    let camera = Camera::new(&scene.camera, side, side);
+    let edges = Edges::new(&scene, &camera, 16);
     let covered = (0..side * side).filter(|k| edges.covers(k % side, k / side)).count();
     assert!(covered > 0 && covered < (side * side / 4) as usize, "{covered} pixels take edge points");
     for (k, (a, b)) in with.iter().zip(&without).enumerate() {

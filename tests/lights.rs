@@ -281,7 +281,7 @@ fn a_shadow_ray_cast_by_chance_counts_one_over_its_chance() {
     // mean it has with chance 1 (within 5 standard errors of 200,000 samples each; power not
     // yet measured), and casts about a fifth of the shadow rays.
     use raypool::tracer::geometry::hit::Hit;
-    use raypool::tracer::lighting::next_event;
+    use raypool::tracer::lighting::{Odds, next_event};
     use raypool::tracer::sampling::warp::uniform;
     use raypool::tracer::shading::material::Lobe;
     let scene = raypool::scenes::builtin::builtin_scene("cornell", 0).unwrap().to_scene();
@@ -307,7 +307,7 @@ fn a_shadow_ray_cast_by_chance_counts_one_over_its_chance() {
                         &floor,
                         Lobe::Cosine,
                         Probe::default(),
-                        (uniform(&mut rng), chance),
+                        Odds { coin: uniform(&mut rng), chance },
                         &mut rng,
                         &mut rays,
                     )

@@ -14,7 +14,7 @@ use raypool::schedule::modes::Schedule;
 use raypool::tracer::geometry::sphere::Sphere;
 use raypool::tracer::lighting::passage::{may_pass, solve};
 use raypool::tracer::lights::LightSampling;
-use raypool::tracer::lights::casters::Ball;
+use raypool::tracer::lights::casters::{Ball, Lamps};
 use raypool::tracer::math::real::{Vec3, to_f64};
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
 use raypool::tracer::sampling::sampler::Sampler;
@@ -275,10 +275,10 @@ fn the_solve_finds_passages_from_far_points_and_may_pass_never_rules_them_out() 
             let lamp = to + spread * uniform(&mut rng) * random_unit_vector(&mut rng);
             let (inward, outward) = (ball.sphere.center - from, lamp - ball.sphere.center);
             let apart = inward.angle_between(outward);
-            let widest = ball.widest((lamp, spread));
+            let widest = ball.widest(Lamps { center: lamp, radius: spread });
             assert!(apart <= widest, "Ball::widest rules out {from} to {to}: {apart} > {widest}");
             assert!(
-                may_pass(&ball, from, (lamp, spread)),
+                may_pass(&ball, from, Lamps { center: lamp, radius: spread }),
                 "may_pass rules out {from} to {to} in ({lamp}, {spread})"
             );
         }
@@ -307,7 +307,7 @@ fn no_passage_leaves_wider_than_ball_widest() {
         let spread = uniform(&mut rng);
         let lamp = to + spread * uniform(&mut rng) * random_unit_vector(&mut rng);
         let apart = (ball.sphere.center - from).angle_between(lamp - ball.sphere.center);
-        let widest = ball.widest((lamp, spread));
+        let widest = ball.widest(Lamps { center: lamp, radius: spread });
         assert!(
             apart <= widest,
             "from {from} through the ball to {to} in ({lamp}, {spread}): {apart} > {widest}"

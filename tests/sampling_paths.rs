@@ -28,9 +28,9 @@ use rand::SeedableRng;
 use rand::rngs::SmallRng;
 use raypool::scenes::builtin::builtin_scene;
 use raypool::scenes::format::SceneFile;
-use raypool::tracer::bidir::chain::{Chain, density_through};
+use raypool::tracer::bidir::chain::{Chain, Leaving, density_through};
 use raypool::tracer::bidir::vertex::Vertex;
-use raypool::tracer::bidir::walk::{Direction, walk};
+use raypool::tracer::bidir::walk::{Direction, Start, walk};
 use raypool::tracer::camera::Camera;
 use raypool::tracer::lighting::passage::{bounce_density, land, may_pass, solve};
 use raypool::tracer::lights::casters::{Ball, Passage};
@@ -60,8 +60,8 @@ const LAMP_HEIGHT: Real = 554.0;
 /// on the lamp's plane, if that is on the lamp. In `f64`: `Ball::pass` in `f32` lands up to
 /// 1.7 units off half a unit from the ball's foot, 0.4 at 1, 0.11 at 2.
 fn to_lamp(ball: &Ball, from: Vec3, d: Vec3) -> Option<(Passage, Vec3)> {
-    let plane = (DVec3::new(0.0, LAMP_HEIGHT.into(), 0.0), DVec3::Y);
-    let at = land(ball, wide(from), wide(d).normalize(), plane)?;
+    let lamp = DVec3::new(0.0, LAMP_HEIGHT.into(), 0.0);
+    let at = land(ball, wide(from), wide(d).normalize(), lamp, DVec3::Y)?;
     let on = (213.0..=343.0).contains(&at.x) && (227.0..=332.0).contains(&at.z);
     on.then_some((ball.pass(from, d)?, narrow(at)))
 }
@@ -233,7 +233,7 @@ fn recorded_through(scene: &Scene, camera: &Camera, light: &Vertex, d: Vec3, pat
     let (probe, mut rays) = (Probe { time: 0.0, medium_seed: 0 }, 0);
     let pdf = light.direction_pdf(d, camera);
     let chain = Chain { vertices: &path[..2], backwards: false };
-    f64::from(density_through(scene, light, d, pdf, chain, &path[2], probe, &mut rays))
+    f64::from(density_through(scene, light, Leaving { dir: d, pdf }, chain, &path[2], probe, &mut rays))
 }
 
 /// Light paths from two points of cornell's lamp (its centre and a point near its far corner),
@@ -281,19 +281,15 @@ fn light_path_vertices_lie_as_densely_as_they_record() {
             let dir = emitted_direction(light.normal, &mut rng);
             let through = ball.pass(point, dir).is_some();
             let mut path = vec![light];
-            let first = (Ray { origin, dir }, Vec3::ONE, -dir.y / PI as Real);
-            let vertices = if through { 4 } else { 2 };
-            walk(
-                &scene,
-                &camera,
-                Direction::FromLight,
-                first,
+            let start = Start {
+                direction: Direction::FromLight,
+                ray: Ray { origin, dir },
+                beta: Vec3::ONE,
+                pdf: -dir.y / PI as Real,
                 probe,
-                vertices,
-                &mut rng,
-                &mut path,
-                &mut rays,
-            );
+                max_vertices: if through { 4 } else { 2 },
+            };
+            walk(&scene, &camera, start, &mut rng, &mut path, &mut rays);
             let glass = |v: &Vertex| v.hit.is_some_and(|h| h.material == ball.sphere.material);
             if let Some(v) = path.get(1).filter(|v| v.lobe.is_some() && v.normal.x > 0.99 && v.point.x < 0.1)
             {

@@ -17,7 +17,7 @@ use std::thread::ThreadId;
 use std::time::Duration;
 
 use crate::error::Error;
-use crate::tracer::bidir::connect::{Bidir, Paths};
+use crate::tracer::bidir::connect::{Bidir, Paths, Streams};
 use crate::tracer::camera::{Camera, CameraSettings};
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::edges::Edges;
@@ -33,7 +33,7 @@ use crate::tracer::splats::Splats;
 pub use crate::tracer::tile::PixelSums;
 use crate::tracer::tile::Tile;
 use crate::tracer::world::object::Probe;
-use path::trace;
+use path::{CameraRay, trace};
 
 /// Largest accepted image side, pixels (the command line and every other entry point check it).
 pub const MAX_SIDE: u32 = 16384;
@@ -88,8 +88,8 @@ pub struct RenderSettings {
     pub edge_spots: u32,
 }
 
-/// The edge points each sample takes where a pixel may see a light: on `cornell` at 64 spp,
-/// 16 leave the light's edge pixels 8% of the squared error they had (4: 16%, 32: 7%).
+/// The edge points each sample takes where a pixel may see a light: past 16, more buy little
+/// (on `cornell`: `results/lights.md`).
 pub const EDGE_SPOTS: u32 = 16;
 
 impl Default for RenderSettings {
@@ -305,21 +305,14 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
             let value = match (&bidir, &light_pixel) {
                 (Some(bidir), Some(light_pixel)) => {
                     let mut light_rng = light_pixel.stream(sample as u64);
-                    bidir.sample(
-                        ray,
-                        start,
-                        &mut rng,
-                        &mut light_rng,
-                        &mut paths,
-                        &mut sums.splats,
-                        &mut rays,
-                    )
+                    let streams = Streams { camera: &mut rng, light: &mut light_rng };
+                    bidir.sample(ray, start, streams, &mut paths, &mut sums.splats, &mut rays)
                 }
                 _ => {
                     let traced = trace::<_, WORLD>(
                         &job.scene,
                         &closest_hit,
-                        (ray, !at_edges),
+                        CameraRay { ray, first_light: !at_edges },
                         start,
                         &job.settings,
                         &mut rng,
@@ -328,8 +321,7 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
                     // Where a pixel may see a light, its edge points count the light the
                     // camera ray meets first, in place of the path's (`lighting/edges.rs`).
                     if at_edges {
-                        let seen = (&*job.scene, &job.camera);
-                        traced + edges.light(seen, ray.origin, (i, j), start, &mut rng, &mut rays)
+                        traced + edges.light(ray.origin, i, j, start, &mut rng, &mut rays)
                     } else {
                         traced
                     }

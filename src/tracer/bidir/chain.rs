@@ -43,21 +43,29 @@ impl Chain<'_> {
     }
 }
 
-/// The density per unit area at `end` of a walk that leaves `start` in the unit direction
-/// `dir` with density `pdf` per unit solid angle and passes the specular vertices of `chain`
-/// (`probe`: the path's time; media play no part). 0 where it cannot be measured. The rays
-/// it casts count in `rays`.
-#[allow(clippy::too_many_arguments)]
+/// A direction a walk leaves a vertex in, and the density per unit solid angle with which it
+/// was drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Leaving {
+    /// The unit direction.
+    pub dir: Vec3,
+    /// Its density.
+    pub pdf: Real,
+}
+
+/// The density per unit area at `end` of a walk that leaves `start` as `leaving` says and
+/// passes the specular vertices of `chain` (`probe`: the path's time; media play no part). 0
+/// where it cannot be measured. The rays it casts count in `rays`.
 pub fn density_through(
     scene: &Scene,
     start: &Vertex,
-    dir: Vec3,
-    pdf: Real,
+    leaving: Leaving,
     chain: Chain,
     end: &Vertex,
     probe: Probe,
     rays: &mut u64,
 ) -> Real {
+    let Leaving { dir, pdf } = leaving;
     if end.kind == Kind::Medium || pdf <= 0.0 {
         return 0.0;
     }

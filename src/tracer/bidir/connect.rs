@@ -9,7 +9,7 @@
 //! number another draws.
 
 use crate::tracer::bidir::vertex::{Kind, Vertex};
-use crate::tracer::bidir::walk::{Direction, walk};
+use crate::tracer::bidir::walk::{Direction, Start, walk};
 use crate::tracer::bidir::weight::{Ends, Limits, weight};
 use crate::tracer::camera::Camera;
 use crate::tracer::lights::emission::emitted_direction;
@@ -28,14 +28,14 @@ use crate::tracer::world::object::Probe;
 pub const LIGHT_VERTICES: usize = 5;
 /// A light path's vertices are joined to the camera path's first this-many-minus-one bounces
 /// (the first only): joining them to later bounces too bought no measurable error on `cornell`
-/// for 12% more time (`results/bdpt.md`).
+/// for more time (`results/bdpt.md`).
 pub const CONNECT_VERTICES: usize = 2;
 
 /// Light tracing's density is weighed at this share against the other strategies'. Its light
 /// paths draw independent numbers, while the camera's strategies draw Sobol points, whose error
-/// falls faster than the densities say: at full share light tracing took 97% of the weight of
-/// directly lit walls and `cornell-smoke`'s error per sample was 1.5× `mis`'s; at 0.1, 0.87×
-/// (`results/bdpt.md`). Any share keeps the weights a partition of 1, so the image unbiased.
+/// falls faster than the densities say: at full share light tracing took nearly all the weight
+/// of directly lit walls and `cornell-smoke`'s error per sample was above `mis`'s; at 0.1,
+/// below it (`results/bdpt.md`). Any share keeps the weights a partition of 1, so the image unbiased.
 pub const LIGHT_TRACING_SHARE: Real = 0.1;
 
 /// What stays the same for every sample of a render.
@@ -49,6 +49,23 @@ pub struct Bidir<'a> {
     pub max_depth: u32,
     /// Image width, pixels (a splat's pixel index is row-major).
     pub width: u32,
+}
+
+/// A sample's two streams: the pixel sample's own, which the camera path draws from, and its
+/// second, which the light path and the lens points it is joined to draw from.
+pub struct Streams<'s, R: ?Sized, L: ?Sized> {
+    /// The pixel sample's stream.
+    pub camera: &'s mut R,
+    /// Its second stream.
+    pub light: &'s mut L,
+}
+
+/// A connection strategy (Veach's `s` and `t`): the light path's first `s` vertices joined
+/// to the camera path's first `t`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Strategy {
+    s: usize,
+    t: usize,
 }
 
 /// The two paths of a sample, kept between samples so their room is allocated once a tile.
@@ -67,35 +84,29 @@ impl Bidir<'_> {
     };
 
     /// One sample from the camera `ray` at `start`: the light reaching the sample's pixel
-    /// (camera strategies); light paths' splats land in `splats`. `rng` is the pixel sample's
-    /// stream, `light_rng` its second one.
-    #[allow(clippy::too_many_arguments)]
+    /// (camera strategies); light paths' splats land in `splats`.
     pub fn sample<R: SampleRng + ?Sized, L: SampleRng + ?Sized>(
         &self,
         ray: Ray,
         start: Probe,
-        rng: &mut R,
-        light_rng: &mut L,
+        streams: Streams<'_, R, L>,
         paths: &mut Paths,
         splats: &mut Splats,
         rays: &mut u64,
     ) -> Vec3 {
-        let max_vertices = self.max_depth as usize + 1;
+        let Streams { camera: rng, light: light_rng } = streams;
         paths.camera.clear();
         paths.camera.push(Vertex::camera(ray.origin));
-        let first = (ray, Vec3::ONE, self.camera.direction_pdf(ray.dir));
+        let first = Start {
+            direction: Direction::FromCamera,
+            ray,
+            beta: Vec3::ONE,
+            pdf: self.camera.direction_pdf(ray.dir),
+            probe: start,
+            max_vertices: self.max_depth as usize + 1,
+        };
         let (scene, camera) = (self.scene, self.camera);
-        let mut radiance = walk(
-            scene,
-            camera,
-            Direction::FromCamera,
-            first,
-            start,
-            max_vertices,
-            rng,
-            &mut paths.camera,
-            rays,
-        );
+        let mut radiance = walk(scene, camera, first, rng, &mut paths.camera, rays);
         paths.light.clear();
         let light_start = Probe { medium_seed: mix(start.medium_seed ^ LIGHT_KEY), ..start };
         if let Some(emission) = scene.lights().sample_emission(start.time, light_rng) {
@@ -103,21 +114,17 @@ impl Bidir<'_> {
             let origin = emission.point + emission.offset * emission.normal;
             // Emission × cos over (area density × cos/π): the cosines cancel.
             let beta = emission.emitted * (PI / emission.pdf);
-            let first = (Ray { origin, dir }, beta, dir.dot(emission.normal).max(0.0) / PI);
+            let first = Start {
+                direction: Direction::FromLight,
+                ray: Ray { origin, dir },
+                beta,
+                pdf: dir.dot(emission.normal).max(0.0) / PI,
+                probe: light_start,
+                max_vertices: LIGHT_VERTICES,
+            };
             let y0 = Vertex::light(emission.point, emission.normal, emission.emitted, emission.pdf);
             paths.light.push(y0);
-            let path = &mut paths.light;
-            walk(
-                scene,
-                camera,
-                Direction::FromLight,
-                first,
-                light_start,
-                LIGHT_VERTICES,
-                light_rng,
-                path,
-                rays,
-            );
+            walk(scene, camera, first, light_rng, &mut paths.light, rays);
         }
         for t in 2..=paths.camera.len() {
             radiance += self.at_camera_vertex(t, paths, start, rng, rays);
@@ -181,7 +188,8 @@ impl Bidir<'_> {
         if toward.emitted == Vec3::ZERO || scattered == Vec3::ZERO {
             return Vec3::ZERO;
         }
-        if !self.visible(z, toward.dir, toward.distance, start, (1, camera_path.len()), rays) {
+        if !self.visible(z, toward.dir, toward.distance, start, Strategy { s: 1, t: camera_path.len() }, rays)
+        {
             return Vec3::ZERO;
         }
         let y0 =
@@ -204,8 +212,8 @@ impl Bidir<'_> {
         if light == Vec3::ZERO || !light.is_finite() {
             return Vec3::ZERO;
         }
-        let key = (light_path.len(), camera_path.len());
-        if !self.visible(z, dir, d2.sqrt(), start, key, rays) {
+        let strategy = Strategy { s: light_path.len(), t: camera_path.len() };
+        if !self.visible(z, dir, d2.sqrt(), start, strategy, rays) {
             return Vec3::ZERO;
         }
         let ends = self.ends(light_path, camera_path);
@@ -237,7 +245,7 @@ impl Bidir<'_> {
         if light == Vec3::ZERO || !light.is_finite() {
             return;
         }
-        if !self.visible(y, dir, d2.sqrt(), start, (s, 1), rays) {
+        if !self.visible(y, dir, d2.sqrt(), start, Strategy { s, t: 1 }, rays) {
             return;
         }
         let camera_path = [Vertex::camera(lens)];
@@ -259,19 +267,21 @@ impl Bidir<'_> {
     }
 
     /// Whether nothing stands between `from` and the point `distance` away along the unit
-    /// `dir` (no surface, no scattering in a medium): a shadow ray, counted in `rays`.
+    /// `dir` (no surface, no scattering in a medium): the shadow ray of `strategy`, its media
+    /// numbers its own, counted in `rays`.
     fn visible(
         &self,
         from: &Vertex,
         dir: Vec3,
         distance: Real,
         start: Probe,
-        key: (usize, usize),
+        strategy: Strategy,
         rays: &mut u64,
     ) -> bool {
         *rays += 1;
         let Some(hit) = &from.hit else { return true };
-        let seed = mix(start.medium_seed ^ CONNECT_KEY ^ ((key.0 as u64) << 32 | key.1 as u64));
+        let key = (strategy.s as u64) << 32 | strategy.t as u64;
+        let seed = mix(start.medium_seed ^ CONNECT_KEY ^ key);
         let (shadow, reach) = Ray::towards(hit.spawn(dir).origin, hit.point + distance * dir);
         !self.scene.occluded(&shadow, reach, &Probe { medium_seed: seed, ..start })
     }

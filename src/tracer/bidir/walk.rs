@@ -9,7 +9,7 @@
 //! path that refracts is weighed by the ratio of the camera's chance of that refraction, read
 //! backwards, to its own: both directions then estimate the same light.
 
-use crate::tracer::bidir::chain::{Chain, density_through};
+use crate::tracer::bidir::chain::{Chain, Leaving, density_through};
 use crate::tracer::bidir::vertex::{Kind, Vertex};
 use crate::tracer::camera::Camera;
 use crate::tracer::geometry::hit::Hit;
@@ -31,27 +31,40 @@ pub enum Direction {
     FromLight,
 }
 
-/// Extends `path` (which holds its first vertex) by following `ray` (throughput `beta`,
-/// drawn with density `pdf` per unit solid angle from the last vertex) until it holds
-/// `max_vertices`, leaves the scene, or is absorbed. Returns the background light a camera
-/// path met on leaving the scene (black for a light path). Each ray counts in `rays`.
-#[allow(clippy::too_many_arguments)]
+/// How a walk starts from its path's first vertex (pbrt's `RandomWalk` arguments): which way
+/// it goes, its first ray with the throughput it carries and the density per unit solid angle
+/// its direction was drawn with, its path's time and media seed, and the most vertices its
+/// path may hold.
+#[derive(Clone, Copy, Debug)]
+pub struct Start {
+    /// From the camera or from a light.
+    pub direction: Direction,
+    /// The first ray.
+    pub ray: Ray,
+    /// Its throughput.
+    pub beta: Vec3,
+    /// The density its direction was drawn with.
+    pub pdf: Real,
+    /// The path's time and media seed.
+    pub probe: Probe,
+    /// The most vertices the path may hold.
+    pub max_vertices: usize,
+}
+
+/// Extends `path` (which holds its first vertex) by following `start`'s ray until it holds
+/// `start.max_vertices`, leaves the scene, or is absorbed. Returns the background light a
+/// camera path met on leaving the scene (black for a light path). Each ray counts in `rays`.
 pub fn walk<R: SampleRng + ?Sized>(
     scene: &Scene,
     camera: &Camera,
-    direction: Direction,
-    (mut ray, mut beta, mut pdf): (Ray, Vec3, Real),
-    probe: Probe,
-    max_vertices: usize,
+    start: Start,
     rng: &mut R,
     path: &mut Vec<Vertex>,
     rays: &mut u64,
 ) -> Vec3 {
+    let Start { direction, mut ray, mut beta, mut pdf, probe, max_vertices } = start;
     let media = scene.has_media();
-    // The last vertex that scatters into every direction (or the path's first), the direction
-    // the walk left it in and that direction's density: where a chain of mirrors and glass,
-    // if one follows, begins (`chain.rs`).
-    let mut anchor = (path.len() - 1, ray.dir, pdf);
+    let mut anchor = Anchor { at: path.len() - 1, leaving: Leaving { dir: ray.dir, pdf } };
     for cast in 1u64.. {
         if path.len() >= max_vertices {
             break;
@@ -81,7 +94,7 @@ pub fn walk<R: SampleRng + ?Sized>(
         }
         if vertex.connectable() {
             pdf = vertex.direction_pdf(scatter.direction, camera);
-            anchor = (path.len() - 1, scatter.direction, pdf);
+            anchor = Anchor { at: path.len() - 1, leaving: Leaving { dir: scatter.direction, pdf } };
         }
         if beta == Vec3::ZERO {
             break;
@@ -91,6 +104,15 @@ pub fn walk<R: SampleRng + ?Sized>(
     Vec3::ZERO
 }
 
+/// The last vertex that scatters into every direction (or the path's first), and how the walk
+/// left it: where a chain of mirrors and glass, if one follows, begins (`chain.rs`).
+#[derive(Clone, Copy, Debug)]
+struct Anchor {
+    /// Its index in the path.
+    at: usize,
+    leaving: Leaving,
+}
+
 /// Sets the two densities between `vertex` (which scatters into every direction, or emits)
 /// and the anchor it was reached from: straight, or through the mirrors and glass after it
 /// (whose rays count in `rays`).
@@ -98,12 +120,12 @@ fn link(
     scene: &Scene,
     camera: &Camera,
     path: &mut [Vertex],
-    anchor: (usize, Vec3, Real),
+    anchor: Anchor,
     vertex: &mut Vertex,
     probe: Probe,
     rays: &mut u64,
 ) {
-    let (a, dir, pdf) = anchor;
+    let Anchor { at: a, leaving: Leaving { dir, pdf } } = anchor;
     let last = path[path.len() - 1].point;
     let back = (last - vertex.point).normalize();
     // The other walk's density here: a light's cosine law where this emits, else its lobe.
@@ -120,11 +142,12 @@ fn link(
     }
     let chain = &path[a + 1..];
     let forwards = Chain { vertices: chain, backwards: false };
-    vertex.pdf_fwd = density_through(scene, &path[a], dir, pdf, forwards, vertex, probe, rays);
+    vertex.pdf_fwd = density_through(scene, &path[a], anchor.leaving, forwards, vertex, probe, rays);
     // No walk draws the camera's point: its density is never asked for.
     if path[a].kind != Kind::Camera {
         let backwards = Chain { vertices: chain, backwards: true };
-        path[a].pdf_rev = density_through(scene, vertex, back, other, backwards, &path[a], probe, rays);
+        let leaving = Leaving { dir: back, pdf: other };
+        path[a].pdf_rev = density_through(scene, vertex, leaving, backwards, &path[a], probe, rays);
     }
 }
 

@@ -12,10 +12,10 @@
 //! [`Passing`] follows a bounce on its way, so that a light it meets after crossing a caster
 //! gets that weight.
 //!
-//! Most manifold samples find nothing. On `cornell`, 56% of them end at once (`may_focus`: one
-//! product per caster says no light can reach the hit through it), 76% before a light point is
-//! drawn ([`may_pass`] for the caster drawn), half the solves left end at their bound, and 1.5%
-//! of the samples find a passage (`results/mnee.md`). A path meets many diffuse hits in a
+//! Most manifold samples find nothing: most end at once (`may_focus`: one product per caster
+//! says no light can reach the hit through it) or before a light point is drawn ([`may_pass`]
+//! for the caster drawn), and many of the solves left end at their bound (how many, on
+//! `cornell`: `results/mnee.md`). A path meets many diffuse hits in a
 //! closed room, most of them carrying little light: so a hit takes a manifold sample with the
 //! chance `min(1, 2 × the path's throughput after it)` (every hit of a path's first bounces,
 //! fewer later), and the sample is divided by that chance and its density multiplied by it
@@ -28,8 +28,8 @@
 
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::lighting::passage::{bounce_density, may_pass, solve};
-use crate::tracer::lighting::power_heuristic;
-use crate::tracer::lights::casters::{Ball, Passage};
+use crate::tracer::lighting::{Odds, power_heuristic};
+use crate::tracer::lights::casters::{Ball, Lamps, Passage};
 use crate::tracer::lights::emission::Emission;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::consts::PI;
@@ -48,10 +48,8 @@ pub const RAYS: u32 = 3;
 /// Sobol set, their estimates averaged: two at a path's first hit (the one the camera sees,
 /// where a caustic's noise shows), eight there if the hit is `near` a ball's focus (where its
 /// caustic is brightest, and most of the light points drawn find no passage), one after
-/// (where `near` is not asked).
-/// Measured (`results/mnee.md`): on `cornell`, two at every hit gave 12.4% less error for 6–12%
-/// more time, and two at the first hit only did as well; on `next-week`, two at every hit cost
-/// 8% more time for no less error, two at the first hit 1.6%.
+/// (where `near` is not asked). Two at the first hit only did as well on `cornell` as two at
+/// every hit, which on `next-week` cost time for no less error (`results/mnee.md`).
 pub fn points(bounce: u32, near: bool) -> u32 {
     match (bounce, near) {
         (0, true) => FIRST_POINTS,
@@ -64,19 +62,21 @@ pub fn points(bounce: u32, near: bool) -> u32 {
 /// after them.
 const FIRST_POINTS: u32 = 8;
 
-/// Light arriving at a diffuse `hit` through one of the scene's casters, per unit albedo (as
-/// [`super::next_event`]'s), taken with probability `chance` (where `coin`, the one the
-/// shadow ray's chance is drawn against, falls below it) and divided by it; then [`points`]
-/// aims, each with four draws in its own dimensions (the caster, the light, a point on it),
+/// Light arriving at a diffuse `hit` of bounce `bounce` through one of the scene's casters,
+/// per unit albedo (as [`super::next_event`]'s), taken by `odds` (whose coin is the one the
+/// shadow ray's chance is drawn against) and divided by its chance; then [`points`] aims,
+/// each with four draws in its own dimensions (the caster, the light, a point on it),
 /// numbered along the path. Counts its shadow rays in `rays`.
 pub fn manifold_event<R: SampleRng + ?Sized>(
     scene: &Scene,
     hit: &Hit,
-    (bounce, coin, chance): (u32, Real, Real),
+    bounce: u32,
+    odds: Odds,
     probe: Probe,
     rng: &mut R,
     rays: &mut u64,
 ) -> Vec3 {
+    let Odds { coin, chance } = odds;
     if coin >= chance || !may_focus(scene, hit.departure()) {
         return Vec3::ZERO;
     }
@@ -85,8 +85,8 @@ pub fn manifold_event<R: SampleRng + ?Sized>(
     let (first, aims) = (if bounce == 0 { 0 } else { FIRST_POINTS + bounce - 1 }, points(bounce, near));
     let (mut focused, mut allowed) = (Vec3::ZERO, Allowed::default());
     for aim in first..first + aims {
-        rng.caustic(aim);
-        focused += aim_once(scene, (hit, &mut allowed), chance * aims as Real, probe, rng, rays);
+        rng.light_through_glass(aim);
+        focused += aim_once(scene, hit, &mut allowed, chance * aims as Real, probe, rng, rays);
     }
     focused
 }
@@ -103,7 +103,7 @@ struct Allowed {
 
 impl Allowed {
     /// Whether caster `k`, `ball`, may let light from `lamps` through to `from`.
-    fn ask(&mut self, k: usize, ball: &Ball, from: Vec3, lamps: (Vec3, Real)) -> bool {
+    fn ask(&mut self, k: usize, ball: &Ball, from: Vec3, lamps: Lamps) -> bool {
         let Some(bit) = 1u64.checked_shl(k as u32) else { return may_pass(ball, from, lamps) };
         if self.asked & bit == 0 {
             self.asked |= bit;
@@ -118,7 +118,8 @@ impl Allowed {
 /// `aims` (its points times its chance) would weigh it.
 fn aim_once<R: SampleRng + ?Sized>(
     scene: &Scene,
-    (hit, allowed): (&Hit, &mut Allowed),
+    hit: &Hit,
+    allowed: &mut Allowed,
     aims: Real,
     probe: Probe,
     rng: &mut R,
@@ -131,12 +132,20 @@ fn aim_once<R: SampleRng + ?Sized>(
         return Vec3::ZERO;
     }
     let Some(light) = scene.lights().sample_emission(probe.time, rng) else { return Vec3::ZERO };
-    let chosen = aimed_density(aims, light.pdf, casters.len());
+    let target = Target { light, chosen: aimed_density(aims, light.pdf, casters.len()) };
     let mut gathered = 0.0;
     solve(ball, hit.departure(), light.point, |passage| {
-        gathered += through(scene, hit, (ball, &passage), &light, chosen, probe, rays);
+        gathered += through(scene, hit, ball, &passage, &target, probe, rays);
     });
-    light.emitted * (gathered / chosen)
+    light.emitted * (gathered / target.chosen)
+}
+
+/// A point drawn on a light for one aim, and the density per unit area with which the aim
+/// drew it ([`aimed_density`]).
+#[derive(Clone, Copy, Debug)]
+struct Target {
+    light: Emission,
+    chosen: Real,
 }
 
 /// The density per unit area with which a manifold sample that makes `aims` aims (its points
@@ -158,19 +167,20 @@ fn may_focus(scene: &Scene, from: Vec3) -> bool {
     (0..casters.len()).any(|k| casters.may_light(k, from))
 }
 
-/// One passage's share of [`manifold_event`]'s estimate, per unit emission and before the
-/// division by the light point's density `chosen`: the bounce's density there, weighted by
-/// the power heuristic, if the passage leaves from above the hit, reaches the light's front,
-/// and its three straight pieces are clear.
+/// The share of [`manifold_event`]'s estimate that `passage` through `ball` gives `target`,
+/// per unit emission and before the division by the target's density: the bounce's density
+/// there, weighted by the power heuristic, if the passage leaves from above the hit, reaches
+/// the light's front, and its three straight pieces are clear.
 fn through(
     scene: &Scene,
     hit: &Hit,
-    (ball, passage): (&Ball, &Passage),
-    light: &Emission,
-    chosen: Real,
+    ball: &Ball,
+    passage: &Passage,
+    target: &Target,
     probe: Probe,
     rays: &mut u64,
 ) -> Real {
+    let Target { light, chosen } = *target;
     let from = hit.departure();
     let dir = (passage.entry - from).normalize();
     let cosine = dir.dot(hit.normal);
@@ -233,7 +243,7 @@ pub struct Passing {
 impl Passing {
     /// A bounce leaving `from` along `dir`, drawn with density `pdf`, from bounce `bounce`'s
     /// hit, where a manifold sample was taken with `chance`.
-    pub fn leave(scene: &Scene, from: Vec3, dir: Vec3, pdf: Real, (bounce, chance): (u32, Real)) -> Passing {
+    pub fn leave(scene: &Scene, from: Vec3, dir: Vec3, pdf: Real, bounce: u32, chance: Real) -> Passing {
         let near = bounce == 0 && scene.casters().near_focus(from);
         Passing { from, dir, pdf, aims: chance * points(bounce, near) as Real, stage: Stage::Left }
     }

@@ -29,7 +29,7 @@
 
 use glam::DVec3;
 
-use crate::tracer::lights::casters::{Ball, Passage};
+use crate::tracer::lights::casters::{Ball, Lamps, Passage};
 use crate::tracer::math::real::{Real, Real4, Vec3};
 
 /// The angle by which a direction is turned to measure the spread of its passage.
@@ -83,17 +83,17 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
     let angle = |k: usize| -limit + step * k as Real;
     let turn = Turn::by(step);
     let edge = radius / distance;
-    let mut lanes = [(-(1.0 - edge * edge).max(0.0).sqrt(), edge); 4];
+    let mut lanes = [Turn { sin: -(1.0 - edge * edge).max(0.0).sqrt(), cos: edge }; 4];
     for k in 1..4 {
         lanes[k] = turn.apply(lanes[k - 1]);
     }
     let apart = (-reach.dot(target) / (distance * far)).clamp(-1.0, 1.0).acos();
-    if !within_reach(ball, (distance, far), lanes[1], apart) {
+    if !within_reach(ball, distance, far, lanes[1], apart) {
         return;
     }
     let target = (target.dot(e1), target.dot(e2));
     let plane = Plane { radius, inverse_radius: 1.0 / radius, distance, ior: ball.ior, target };
-    let (mut sin, mut cos) = (Real4::from(lanes.map(|l| l.0)), Real4::from(lanes.map(|l| l.1)));
+    let (mut sin, mut cos) = (Real4::from(lanes.map(|l| l.sin)), Real4::from(lanes.map(|l| l.cos)));
     let four = turn.twice().twice();
     let miss = |angle: Real| {
         let (sin, cos) = angle.sin_cos();
@@ -126,7 +126,7 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
     while changes != 0 {
         let k = changes.trailing_zeros() as usize;
         changes &= changes - 1;
-        let bracket = |k: usize| Some((angle(k), miss(angle(k))?));
+        let bracket = |k: usize| Some(Try { angle: angle(k), miss: miss(angle(k))? });
         pass(bracket(k).zip(bracket(k + 1)).and_then(|(low, high)| close_in(&miss, low, high)));
     }
     // A fold: where the ray leaving turns back towards the target and away again between
@@ -143,16 +143,15 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
         if middle > FOLD_DEPTH * outer {
             continue;
         }
-        let Some(turn) = turning_point(&miss, (angle(k - 1), angle(k + 1)), side) else { continue };
-        pass(close_in(&miss, (angle(k - 1), misses[k - 1]), turn));
-        pass(close_in(&miss, turn, (angle(k + 1), misses[k + 1])));
+        let Some(fold) = turning_point(&miss, angle(k - 1), angle(k + 1), side) else { continue };
+        pass(close_in(&miss, Try { angle: angle(k - 1), miss: misses[k - 1] }, fold));
+        pass(close_in(&miss, fold, Try { angle: angle(k + 1), miss: misses[k + 1] }));
     }
 }
 
 /// How far below both its neighbours' misses the middle try's must dip for [`solve`] to seek
-/// a fold there. Shallower dips rarely hide passages. On `cornell` (80², 256 spp, one seed),
-/// a quarter of the solves have a dip, and 332 of their 142,739 dips hide passages; this
-/// depth leaves 95.5% of the others unsought and keeps 99.4% of those.
+/// a fold there. Shallower dips rarely hide passages: this depth leaves most dips unsought and
+/// keeps nearly all of those that hide one (counted on `cornell`: `results/mnee.md`).
 const FOLD_DEPTH: Real = 0.9;
 
 /// The most golden-section steps [`turning_point`] takes: they narrow its interval to 0.07%.
@@ -163,25 +162,26 @@ const TURNING_STEPS: u32 = 15;
 /// `high`), and its miss; sought by golden section towards the least `side × miss`.
 fn turning_point(
     miss: &impl Fn(Real) -> Option<Real>,
-    (mut low, mut high): (Real, Real),
+    mut low: Real,
+    mut high: Real,
     side: Real,
-) -> Option<(Real, Real)> {
+) -> Option<Try> {
     const GOLDEN: Real = 0.618_034;
-    let inner = |a: Real| -> Option<(Real, Real)> { Some((a, miss(a)?)) };
+    let inner = |angle: Real| Some(Try { angle, miss: miss(angle)? });
     let mut left = inner(high - GOLDEN * (high - low))?;
     let mut right = inner(low + GOLDEN * (high - low))?;
     for _ in 0..TURNING_STEPS {
         for probe in [left, right] {
-            if side * probe.1 < 0.0 {
+            if side * probe.miss < 0.0 {
                 return Some(probe);
             }
         }
-        if side * left.1 < side * right.1 {
-            high = right.0;
+        if side * left.miss < side * right.miss {
+            high = right.angle;
             right = left;
             left = inner(high - GOLDEN * (high - low))?;
         } else {
-            low = left.0;
+            low = left.angle;
             left = right;
             right = inner(low + GOLDEN * (high - low))?;
         }
@@ -189,7 +189,15 @@ fn turning_point(
     None
 }
 
-/// A rotation in the plane by an angle, as its sine and cosine.
+/// An entry angle tried, and its miss: how far, and on which side, the ray leaving passes the
+/// target.
+#[derive(Clone, Copy)]
+struct Try {
+    angle: Real,
+    miss: Real,
+}
+
+/// An angle in the plane, as its sine and cosine: an entry point's, or the rotation by it.
 #[derive(Clone, Copy)]
 struct Turn {
     sin: Real,
@@ -207,29 +215,32 @@ impl Turn {
         Turn { sin: 2.0 * self.sin * self.cos, cos: self.cos * self.cos - self.sin * self.sin }
     }
 
-    /// `(sin, cos)` of an angle turned by this one.
-    fn apply(self, (sin, cos): (Real, Real)) -> (Real, Real) {
-        (sin * self.cos + cos * self.sin, cos * self.cos - sin * self.sin)
+    /// `angle` turned by this one.
+    fn apply(self, angle: Turn) -> Turn {
+        let Turn { sin, cos } = angle;
+        Turn { sin: sin * self.cos + cos * self.sin, cos: cos * self.cos - sin * self.sin }
     }
 }
 
 /// Whether [`solve`] can find a passage through `ball` from `from` to some point of the
-/// sphere `lamps` (centre and radius) at all: `within_reach` for the whole sphere at once,
+/// sphere `lamps` at all: `within_reach` for the whole sphere at once,
 /// with the nearest of its distances from the ball's centre and the smallest of its angles
 /// from straight on. A hit it rules out needs no manifold sample (its solves would all end
-/// at the bound); on `cornell`, 76% of the hits that take a manifold sample.
+/// at the bound); on `cornell`, most of the hits that take a manifold sample
+/// (`results/mnee.md`).
 ///
 /// ```
 /// use raypool::tracer::geometry::sphere::Sphere;
 /// use raypool::tracer::lighting::passage::may_pass;
 /// use raypool::tracer::math::real::Vec3;
-/// use raypool::tracer::lights::casters::Ball;
+/// use raypool::tracer::lights::casters::{Ball, Lamps};
 /// let ball = Ball::new(Sphere { center: Vec3::new(0.0, 1.0, 0.0), radius: 1.0, material: 0 }, 1.5);
-/// let lamp = (Vec3::new(0.0, 6.0, 0.0), 0.7);
+/// let lamp = Lamps { center: Vec3::new(0.0, 6.0, 0.0), radius: 0.7 };
 /// assert!(may_pass(&ball, Vec3::new(0.5, 0.0, 0.0), lamp)); // the floor under it
 /// assert!(!may_pass(&ball, Vec3::new(0.5, 6.0, 0.0), lamp)); // the ceiling beside the lamp
 /// ```
-pub fn may_pass(ball: &Ball, from: Vec3, (lamp, spread): (Vec3, Real)) -> bool {
+pub fn may_pass(ball: &Ball, from: Vec3, lamps: Lamps) -> bool {
+    let Lamps { center: lamp, radius: spread } = lamps;
     let (center, radius) = (ball.sphere.center, ball.sphere.radius);
     let (reach, toward) = (from - center, lamp - center);
     let (distance, away) = (reach.length(), toward.length());
@@ -242,12 +253,12 @@ pub fn may_pass(ball: &Ball, from: Vec3, (lamp, spread): (Vec3, Real)) -> bool {
     // The first try inside the tangent, as `solve` places it.
     let first = (radius / distance).acos() * (TRIES - 3) as Real / (TRIES - 1) as Real;
     let apart = (-reach.dot(toward) / (distance * away)).clamp(-1.0, 1.0).acos() - (spread / away).asin();
-    within_reach(ball, (distance, away - spread), first.sin_cos(), apart)
+    within_reach(ball, distance, away - spread, Turn::by(first), apart)
 }
 
 /// Whether the solve can find a passage from the start (`distance` from the centre) to the
 /// target (`far` from it, `apart` radians from straight on through the centre), given the
-/// entry angle of the first try inside the tangent as `(sin, cos)`. The passages looked for
+/// entry angle of the first try inside the tangent, `entry`. The passages looked for
 /// cross the ball at most `b` from its centre, that try's impact. A ray from the start that
 /// passes `b` from the centre is `β = asin(b / d)` off the way to it; the ball turns it back
 /// across that way by `D =` [`Ball::turn`]`(b / r)`, so it leaves `|D − β|` off, at most the
@@ -256,8 +267,8 @@ pub fn may_pass(ball: &Ball, from: Vec3, (lamp, spread): (Vec3, Real)) -> bool {
 /// `1 / √(d² − b²)`: in glass, beyond about 1.8 radii). Leaving on a line `b` from the centre,
 /// it meets the target only within `asin(b / |target|)` of that line's direction, seen from
 /// the centre. Cheap: on `cornell`, half the solves that [`may_pass`] lets through end here.
-fn within_reach(ball: &Ball, (distance, far): (Real, Real), (sin, cos): (Real, Real), apart: Real) -> bool {
-    let radius = ball.sphere.radius;
+fn within_reach(ball: &Ball, distance: Real, far: Real, entry: Turn, apart: Real) -> bool {
+    let (radius, Turn { sin, cos }) = (ball.sphere.radius, entry);
     let chord = (distance * distance + radius * radius - 2.0 * distance * radius * cos).sqrt();
     let impact = distance * radius * sin.abs() / chord;
     let (turned, aside) = (ball.turn(impact / radius), (impact / distance).asin());
@@ -311,28 +322,24 @@ impl Plane {
 /// The passage between entry angles `low` and `high` (each with its signed miss, of opposite
 /// signs), by regula falsi with the Illinois rule (a side kept twice has its miss halved, so
 /// the bracket closes from both ends).
-fn close_in(
-    miss: &impl Fn(Real) -> Option<Real>,
-    mut low: (Real, Real),
-    mut high: (Real, Real),
-) -> Option<Real> {
-    if low.1.signum() == high.1.signum() {
+fn close_in(miss: &impl Fn(Real) -> Option<Real>, mut low: Try, mut high: Try) -> Option<Real> {
+    if low.miss.signum() == high.miss.signum() {
         return None;
     }
     let mut kept = 0i8;
     for _ in 0..STEPS {
-        let angle = (low.0 * high.1 - high.0 * low.1) / (high.1 - low.1);
+        let angle = (low.angle * high.miss - high.angle * low.miss) / (high.miss - low.miss);
         let off = miss(angle)?;
         if off.abs() < AIM {
             return Some(angle);
         }
-        if off.signum() == low.1.signum() {
-            low = (angle, off);
-            high.1 *= if kept > 0 { 0.5 } else { 1.0 };
+        if off.signum() == low.miss.signum() {
+            low = Try { angle, miss: off };
+            high.miss *= if kept > 0 { 0.5 } else { 1.0 };
             kept = kept.max(0) + 1;
         } else {
-            high = (angle, off);
-            low.1 *= if kept < 0 { 0.5 } else { 1.0 };
+            high = Try { angle, miss: off };
+            low.miss *= if kept < 0 { 0.5 } else { 1.0 };
             kept = kept.min(0) - 1;
         }
     }
@@ -361,7 +368,7 @@ pub fn bounce_density(ball: &Ball, from: Vec3, dir: Vec3, pdf: Real, at: Vec3, n
     // turn of a thousandth moves the entry by less than an `f32` resolves at the scene's
     // size, and the spread came out wrong (`tests/agreement.rs`).
     let (from, dir, at, normal) = (wide(from), wide(dir), wide(at), wide(normal));
-    let land = |dir: DVec3| land(ball, from, dir, (at, normal));
+    let land = |dir: DVec3| land(ball, from, dir, at, normal);
     let (u, v) = dir.any_orthonormal_pair();
     let turned = |a: f64, b: f64| land((dir + a * u + b * v).normalize());
     let step = f64::from(STEP);
@@ -384,7 +391,7 @@ fn wide(v: Vec3) -> DVec3 {
 /// [`bounce_density`]'s differences (public for `tests/sampling_paths.rs`, which needs the
 /// landing point as precisely: half a unit from `cornell`'s ball's foot, `Ball::pass` in `f32`
 /// lands a median 0.2 and up to 1.7 units off on its lamp).
-pub fn land(ball: &Ball, from: DVec3, dir: DVec3, (at, normal): (DVec3, DVec3)) -> Option<DVec3> {
+pub fn land(ball: &Ball, from: DVec3, dir: DVec3, at: DVec3, normal: DVec3) -> Option<DVec3> {
     let (center, radius, ior) =
         (wide(ball.sphere.center), f64::from(ball.sphere.radius), f64::from(ball.ior));
     let refract = |v: DVec3, n: DVec3, eta: f64| {

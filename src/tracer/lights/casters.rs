@@ -120,7 +120,7 @@ impl Ball {
     }
 
     /// The widest angle, seen from the centre, between the way in from a start outside and the
-    /// way out to a point of the sphere `lamps` (centre and radius), at which a passage can
+    /// way out to a point of the sphere `lamps`, at which a passage can
     /// join them: a ray arrives at most 90° off the way to the centre, the ball turns it by at
     /// most [`Ball::turn`]`(1)` back across it, so it leaves at most the larger of the two off;
     /// it leaves on a line at most `r` from the centre, so a point `f` away is at most
@@ -130,12 +130,14 @@ impl Ball {
     /// ```
     /// use raypool::tracer::geometry::sphere::Sphere;
     /// use raypool::tracer::math::real::Vec3;
-    /// use raypool::tracer::lights::casters::Ball;
+    /// use raypool::tracer::lights::casters::{Ball, Lamps};
     /// let ball = Ball::new(Sphere { center: Vec3::ZERO, radius: 1.0, material: 0 }, 1.5);
     /// // A point lamp far away: the turn at the rim alone, 96°.
-    /// assert!((ball.widest((Vec3::new(0.0, 1e4, 0.0), 0.0)).to_degrees() - 96.4).abs() < 0.1);
+    /// let far = Lamps { center: Vec3::new(0.0, 1e4, 0.0), radius: 0.0 };
+    /// assert!((ball.widest(far).to_degrees() - 96.4).abs() < 0.1);
     /// ```
-    pub fn widest(&self, (lamp, spread): (Vec3, Real)) -> Real {
+    pub fn widest(&self, lamps: Lamps) -> Real {
+        let Lamps { center: lamp, radius: spread } = lamps;
         let away = (lamp - self.sphere.center).length();
         let nearest = away - spread;
         if nearest <= self.sphere.radius {
@@ -166,11 +168,20 @@ impl Ball {
     }
 }
 
+/// A sphere around every point of a scene's lights, which a caster's bounds are drawn against.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Lamps {
+    /// Its centre.
+    pub center: Vec3,
+    /// Its radius.
+    pub radius: Real,
+}
+
 /// The scene's casters, in the scene's order, and a sphere around its lights.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Casters {
     balls: Vec<Ball>,
-    lamps: (Vec3, Real),
+    lamps: Lamps,
     /// Per ball, the cosine of the widest angle that light from the lamps can pass ([`Casters::may_light`]).
     widest: Vec<Real>,
 }
@@ -199,7 +210,8 @@ impl Casters {
             _ => None,
         });
         let middle = 0.5 * (lamps.min + lamps.max);
-        let (balls, lamps): (Vec<Ball>, _) = (balls.collect(), (middle, (lamps.max - middle).length()));
+        let lamps = Lamps { center: middle, radius: (lamps.max - middle).length() };
+        let balls: Vec<Ball> = balls.collect();
         let widest = balls.iter().map(|ball| ball.widest(lamps).cos()).collect();
         Casters { balls, lamps, widest }
     }
@@ -208,7 +220,7 @@ impl Casters {
     /// one product against [`Ball::widest`]: the loose first of two (`lighting/passage.rs`'s
     /// `may_pass` is the tight one), which on `cornell` rules out the ceiling and high walls.
     pub fn may_light(&self, k: usize, from: Vec3) -> bool {
-        let (center, (lamp, _)) = (self.balls[k].sphere.center, self.lamps);
+        let (center, lamp) = (self.balls[k].sphere.center, self.lamps.center);
         let (inward, outward) = (center - from, lamp - center);
         inward.dot(outward) >= self.widest[k] * (inward.length_squared() * outward.length_squared()).sqrt()
     }
@@ -221,8 +233,8 @@ impl Casters {
             .any(|ball| (from - ball.sphere.center).length_squared() < ball.focus() * ball.focus())
     }
 
-    /// A sphere around every point of the scene's lights: centre and radius.
-    pub fn lamps(&self) -> (Vec3, Real) {
+    /// A sphere around every point of the scene's lights.
+    pub fn lamps(&self) -> Lamps {
         self.lamps
     }
 

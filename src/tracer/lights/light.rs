@@ -34,7 +34,7 @@ pub enum Light {
 impl Light {
     /// A point drawn on it from `from` at `time` with the numbers `uv`, as the light `chosen`.
     /// `None` where none can be drawn (from inside a sphere, or seen exactly edge-on).
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, from: Vec3, time: Real, uv: [Real; 2], chosen: Chosen) -> Option<LightSample> {
         match self {
             Light::Quad(quad) => quad.sample(from, uv, chosen),

@@ -268,11 +268,11 @@ fn apart(found: &[Found]) -> Vec<bool> {
     let mut by_cone: Vec<(usize, Aabb)> = by_cone.map(|(k, l)| (k, reach(l))).collect();
     by_cone.sort_by(|a, b| a.1.min.x.total_cmp(&b.1.min.x));
     let widest = by_cone.iter().fold(0.0, |w: Real, (_, b)| w.max(b.max.x - b.min.x));
-    let alone = |(k, light): (usize, &Found)| {
+    let alone = |k: usize, light: &Found| {
         let own = reach(light);
         let first = by_cone.partition_point(|(_, other)| other.min.x < own.min.x - widest);
         let mut near = by_cone[first..].iter().take_while(|(_, other)| other.min.x <= own.max.x);
         !near.any(|(j, other)| *j != k && own.meets(other))
     };
-    found.iter().enumerate().map(alone).collect()
+    found.iter().enumerate().map(|(k, light)| alone(k, light)).collect()
 }

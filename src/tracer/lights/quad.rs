@@ -28,7 +28,7 @@ impl QuadLight {
     }
 
     /// A point drawn uniformly by area with the numbers `[a, b]`, seen from `from`.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, from: Vec3, [a, b]: [Real; 2], chosen: Chosen) -> Option<LightSample> {
         let quad = &self.0;
         toward_area(from, quad.q + a * quad.u + b * quad.v, quad.normal(), quad.area(), chosen)

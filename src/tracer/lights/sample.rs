@@ -42,7 +42,7 @@ pub struct Chosen {
 /// The sample of the point `point` (unit normal `normal`) of a flat light of area `area`,
 /// drawn uniformly by area, seen from `from`: density `chance · d² / (|cos θ| · area)` per unit
 /// solid angle. `None` where that is not a positive finite number.
-#[inline]
+#[inline(always)]
 pub fn toward_area(from: Vec3, point: Vec3, normal: Vec3, area: Real, chosen: Chosen) -> Option<LightSample> {
     let to = point - from;
     let distance = to.length();

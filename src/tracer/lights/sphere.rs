@@ -32,7 +32,7 @@ impl SphereLight {
 
     /// A direction drawn uniformly over the cone it fills from `from` at `time`, with the
     /// numbers `[a, b]`. `None` from inside it.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, from: Vec3, time: Real, [a, b]: [Real; 2], chosen: Chosen) -> Option<LightSample> {
         let sphere = self.0.at(time);
         let cone = Cone::of(&sphere, from)?;

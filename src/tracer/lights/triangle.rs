@@ -44,7 +44,7 @@ impl TriangleLight {
     }
 
     /// A point drawn uniformly by area with the numbers `[a, b]`, seen from `from`.
-    #[inline]
+    #[inline(always)]
     pub fn sample(&self, from: Vec3, [a, b]: [Real; 2], chosen: Chosen) -> Option<LightSample> {
         toward_area(from, self.at(a.sqrt(), b), self.normal, self.area, chosen)
     }

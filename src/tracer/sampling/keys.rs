@@ -25,7 +25,10 @@ pub const GLINT_KEY: u64 = 0x6711_0000_0000_0001;
 
 /// A shadow ray's media seed → piece `k` (1 to 3) of a manifold sample, XORed on as `k ×`
 /// this key (`lighting/manifold.rs`). [`Probe::uniform`] turns medium ids into numbers by the
-/// same multiplier, so piece `k` in medium 0 draws what the shadow ray draws in medium `k`.
+/// same multiplier, so piece `k` in medium `m` draws what piece `m` draws in medium `k` (and,
+/// for `m` = 0, what the shadow ray draws in medium `k`): pieces through media on both sides
+/// of a glass ball can share a number. A new multiplier would change images with media and
+/// casters.
 ///
 /// [`Probe::uniform`]: crate::tracer::world::object::Probe::uniform
 pub const PIECE_KEY: u64 = 0x9E37_79B9_7F4A_7C15;

@@ -53,26 +53,27 @@ pub trait SampleRng: Rng {
         let _ = bounce;
     }
 
-    /// The next numbers (up to four: a coin, the choice of a light, a point on it) aim bounce
-    /// `bounce`'s hit at a light. Until the next [`SampleRng::bounce`].
+    /// The next numbers (up to four: a coin, the choice of a light, a point on it) are a
+    /// light sample at bounce `bounce`'s hit. Until the next [`SampleRng::bounce`]. Used by
+    /// next-event estimation (`render/path.rs`) and bidirectional shadow rays (`bidir/`).
     fn light(&mut self, bounce: u32) {
         let _ = bounce;
     }
 
-    /// The next numbers (up to four: a glass ball, a light, a point on it) aim a hit at a
-    /// light through a glass ball: the path's aim number `aim` (`lighting/manifold.rs` numbers
-    /// them along the path, two at its first hit). Until the next [`SampleRng::bounce`].
-    fn caustic(&mut self, aim: u32) {
+    /// The next numbers (up to four: a glass ball, a light, a point on it) are a light sample
+    /// through a glass ball, the path's `aim`-th. Until the next [`SampleRng::bounce`]. Used by
+    /// manifold samples (`lighting/manifold.rs`, which numbers the aims along the path).
+    fn light_through_glass(&mut self, aim: u32) {
         let _ = aim;
     }
 
-    /// A point in the pixel, two numbers in `[0, 1)`: the `spot`-th of the `of` extra points
-    /// this pixel sample takes to see the lights' edges (`lighting/edges.rs`). A low-discrepancy
-    /// sampler takes them from a sequence of their own, `of` points per sample, so that the
-    /// first `n` samples' points fill the pixel as `n × of` samples would; others draw two
-    /// more numbers.
-    fn edge_spot(&mut self, spot: u32, of: u32) -> [Real; 2] {
-        let _ = (spot, of);
+    /// A point in the pixel, two numbers in `[0, 1)`: the `k`-th of the `of` extra points this
+    /// pixel sample takes. A low-discrepancy sampler takes them from a sequence of their own,
+    /// `of` points per sample, so that the first `n` samples' points fill the pixel as
+    /// `n × of` samples would; others draw two more numbers. Used by the lights' edges
+    /// (`lighting/edges.rs`).
+    fn pixel_point(&mut self, k: u32, of: u32) -> [Real; 2] {
+        let _ = (k, of);
         [uniform(self), uniform(self)]
     }
 }

@@ -256,10 +256,10 @@ const NO_PAIR: u32 = u32::MAX;
 /// scenes with lights.
 const LIGHT_SETS: u32 = 1 << 16;
 
-/// The first dimension set of the samples aimed at a light through a glass ball: a path's aim
-/// `a` takes set `CAUSTIC_SETS + a`, as far from the light samples' sets as those are from the
+/// The first dimension set of the light samples through a glass ball: a path's aim `a` takes
+/// set `GLASS_LIGHT_SETS + a`, as far from the light samples' sets as those are from the
 /// bounces'.
-const CAUSTIC_SETS: u32 = 1 << 17;
+const GLASS_LIGHT_SETS: u32 = 1 << 17;
 
 impl SampleRng for SobolStream<'_> {
     fn bounce(&mut self, bounce: u32) {
@@ -271,15 +271,15 @@ impl SampleRng for SobolStream<'_> {
         self.use_dimensions(LIGHTS, LIGHT_SETS + bounce, 0..4);
     }
 
-    fn caustic(&mut self, aim: u32) {
-        self.use_dimensions(AIMS, CAUSTIC_SETS + aim, 0..4);
+    fn light_through_glass(&mut self, aim: u32) {
+        self.use_dimensions(AIMS, GLASS_LIGHT_SETS + aim, 0..4);
     }
 
-    /// Point `sample × of + spot` of a 2-dimensional Owen-scrambled Sobol sequence of the
+    /// Point `sample × of + k` of a 2-dimensional Owen-scrambled Sobol sequence of the
     /// pixel's own (`sobol_burley`'s two first dimensions, its seed the pixel's keyed apart);
     /// independent numbers past the sequence's 2¹⁶ points.
-    fn edge_spot(&mut self, spot: u32, of: u32) -> [Real; 2] {
-        let index = self.fallback.sample * u64::from(of) + u64::from(spot);
+    fn pixel_point(&mut self, k: u32, of: u32) -> [Real; 2] {
+        let index = self.fallback.sample * u64::from(of) + u64::from(k);
         if index >= SOBOL_SAMPLES {
             return [uniform(self.fallback()), uniform(self.fallback())];
         }
