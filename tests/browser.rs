@@ -51,6 +51,9 @@ fn the_page_renders_live_with_a_lane_per_worker_and_orbits() {
     );
     assert!(bars.as_u64().unwrap() > 1000, "the timeline has bars: {bars}");
     assert!(page.eval("document.getElementById('stats').textContent").as_str().unwrap().contains("Mrays/s"));
+    // The mode menu is filled from the code's own list (`/state`'s `modes`, `Schedule::ALL`).
+    let modes = page.eval("[...document.getElementById('mode').options].map(o => o.textContent).join(' ')");
+    assert_eq!(modes, "serial static interleaved pool-rows pool steal", "the page's modes");
 
     // Drag the image: the camera orbits, the render restarts, and the page records how long
     // the first whole frame took to reach the screen.

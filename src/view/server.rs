@@ -31,6 +31,7 @@ use serde_json::json;
 
 use crate::files::output::Format;
 use crate::scenes::builtin::BUILTINS;
+use crate::schedule::modes::Schedule;
 use crate::schedule::random::RngChoice;
 use crate::view::http::{Request, Response, WRITE_TIME, read_request};
 use crate::view::request::{MAX_PASTED_SCENE, parse};
@@ -126,13 +127,14 @@ pub fn handle(session: &Arc<Session>, origins: &Origins, mut stream: TcpStream) 
 
 type Answer = Result<Response, (u16, String)>;
 
-/// `GET /state`: what the page's controls start from.
+/// `GET /state`: what the page's controls start from, and the scenes and modes they offer
+/// (from the code's own lists, so a new `--mode` needs no edit here or in the page).
 fn state(session: &Session) -> String {
     let (generation, config) = session.current();
     let settings = &config.job.settings;
     json!({
         "gen": generation, "scene": config.name, "scenes": BUILTINS.iter().map(|b| b.name).collect::<Vec<_>>(),
-        "mode": config.mode.name(), "threads": config.threads, "tile": config.tile,
+        "mode": config.mode.name(), "modes": Schedule::ALL.map(Schedule::name), "threads": config.threads, "tile": config.tile,
         "rng": if config.rng == RngChoice::Shared { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
         "light-sampling": settings.light_sampling.name(), "width": settings.width, "height": settings.height, "spp": settings.spp,
         "denoise": config.denoise,
