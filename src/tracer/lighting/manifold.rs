@@ -182,7 +182,7 @@ fn through(
 ) -> Real {
     let Target { light, chosen } = *target;
     let from = hit.departure();
-    let dir = (passage.entry - from).normalize();
+    let dir = passage.dir;
     let cosine = dir.dot(hit.normal);
     if cosine <= 0.0 || (light.point - passage.exit).dot(light.normal) >= 0.0 {
         return 0.0;

@@ -29,8 +29,8 @@
 
 use glam::DVec3;
 
-use crate::tracer::lights::casters::{Ball, Lamps, Passage};
-use crate::tracer::math::real::{Real, Real4, Vec3};
+use crate::tracer::lights::casters::{Ball, Crossing, Lamps, Passage};
+use crate::tracer::math::real::{Real, Real4, Vec3, to_dvec3, to_f64};
 
 /// The angle by which a direction is turned to measure the spread of its passage.
 const STEP: Real = 1e-3;
@@ -64,7 +64,11 @@ const AIM: Real = 1e-5;
 /// assert!((to - found[0].exit).normalize().dot(found[0].out) > 1.0 - 1e-6);
 /// ```
 pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
-    let (center, radius) = (ball.sphere.center, ball.sphere.radius);
+    // Set up in double precision (the start's gap from the glass, the plane's axes, the tries'
+    // angles): a start near the glass sees the ball only within thousandths of a radian of its
+    // tangents, closer than `f32` places them. The tries then run in `f32` (`Plane::sides`).
+    let (center, radius) = (to_dvec3(ball.sphere.center), to_f64(ball.sphere.radius));
+    let (from, to) = (to_dvec3(from), to_dvec3(to));
     let reach = from - center;
     let (distance, far) = (reach.length(), (to - center).length());
     if distance <= radius || far <= radius {
@@ -79,20 +83,20 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
     // `-limit` up, four at a time, each turned from the one before by a rotation (so the
     // tries take one arc cosine, one sine and one cosine between them, however many).
     let limit = (radius / distance).acos();
-    let step = 2.0 * limit / (TRIES - 1) as Real;
-    let angle = |k: usize| -limit + step * k as Real;
-    let turn = Turn::by(step);
-    let edge = radius / distance;
-    let mut lanes = [Turn { sin: -(1.0 - edge * edge).max(0.0).sqrt(), cos: edge }; 4];
+    let step = 2.0 * limit / (TRIES - 1) as f64;
+    let angle = |k: usize| (-limit + step * k as f64) as Real;
+    let turn = Turn::by(step as Real);
+    let mut lanes = [Turn { sin: -limit.sin() as Real, cos: (radius / distance) as Real }; 4];
     for k in 1..4 {
         lanes[k] = turn.apply(lanes[k - 1]);
     }
     let apart = (-reach.dot(target) / (distance * far)).clamp(-1.0, 1.0).acos();
-    if !within_reach(ball, distance, far, lanes[1], apart) {
+    if !within_reach(ball, distance as Real, far as Real, lanes[1], apart as Real) {
         return;
     }
-    let target = (target.dot(e1), target.dot(e2));
-    let plane = Plane { radius, inverse_radius: 1.0 / radius, distance, ior: ball.ior, target };
+    let target = (target.dot(e1) as Real, target.dot(e2) as Real);
+    let (gap, ior) = ((distance - radius) as Real, ball.ior);
+    let plane = Plane { radius: radius as Real, inverse_radius: (1.0 / radius) as Real, gap, ior, target };
     let (mut sin, mut cos) = (Real4::from(lanes.map(|l| l.sin)), Real4::from(lanes.map(|l| l.cos)));
     let four = turn.twice().twice();
     let miss = |angle: Real| {
@@ -117,10 +121,10 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
     seen &= !(1 | 1 << (TRIES - 1));
     // Bit k: tries k and k + 1 are both seen and on opposite sides.
     let mut changes = seen & (seen >> 1) & (negative ^ (negative >> 1)) & ((1u64 << (TRIES - 1)) - 1);
-    let entry = |a: Real| center + radius * (a.cos() * e1 + a.sin() * e2);
+    let entry = |a: f64| center + radius * (a.cos() * e1 + a.sin() * e2);
     let mut pass = |found: Option<Real>| {
-        if let Some(passage) = found.and_then(|a| ball.pass_at(from, entry(a))) {
-            each(passage);
+        if let Some(crossing) = found.and_then(|a| ball.cross(from, entry(to_f64(a)))) {
+            each(crossing.rounded());
         }
     };
     while changes != 0 {
@@ -277,12 +281,12 @@ fn within_reach(ball: &Ball, distance: Real, far: Real, entry: Turn, apart: Real
     apart <= off + (impact / far).asin()
 }
 
-/// The solve's plane, its coordinates centred on the ball: the start point at `(distance, 0)`,
-/// the target at `target`.
+/// The solve's plane, its coordinates centred on the ball: the start point at
+/// `(radius + gap, 0)`, the target at `target`.
 struct Plane {
     radius: Real,
     inverse_radius: Real,
-    distance: Real,
+    gap: Real,
     ior: Real,
     target: (Real, Real),
 }
@@ -292,17 +296,22 @@ impl Plane {
     /// towards, against the target: `(across, along)`, the cross and dot products of the ray
     /// leaving with the way to the target, so it points at the target where `across` is 0 and
     /// `along` positive; `along` is NaN where the start cannot see the point or the glass
-    /// reflects it whole. [`Ball::pass_at`]'s passage in two dimensions: the same two
+    /// reflects it whole. [`Ball::cross`]'s passage in two dimensions: the same two
     /// refractions, the second written with the first's angles (a chord meets the sphere at
-    /// equal angles).
+    /// equal angles). The way in and its angle to the normal are written with the start's
+    /// `gap` from the glass and the sag `r(1 − cos) = r sin² / (1 + cos)` of the entry point,
+    /// not as differences of numbers near the radius: from a start near the glass those
+    /// differences keep too few digits in `f32` (`tests/sampling_paths.rs`).
     #[inline]
     fn sides(&self, cos: Real4, sin: Real4) -> (Real4, Real4) {
-        let (eta, one) = (1.0 / self.ior, Real4::ONE);
+        let (eta, one, gap) = (1.0 / self.ior, Real4::ONE, Real4::splat(self.gap));
         let (ex, ey) = (cos * self.radius, sin * self.radius);
-        let fx = ex - Real4::splat(self.distance);
+        let sag = sin * sin / (one + cos) * self.radius;
+        let fx = -(sag + gap);
         let inverse = (fx * fx + ey * ey).sqrt().recip();
         let (dx, dy) = (fx * inverse, ey * inverse);
-        let cos_in = -(dx * cos + dy * sin);
+        // −(d · normal) = (distance · cos − r) / |e − start|.
+        let cos_in = (gap * cos - sag) * inverse;
         // NaN where the glass reflects it whole (a ball of index below 1).
         let cos_inside = (one - (one - cos_in * cos_in) * (eta * eta)).sqrt();
         let bend = cos_in * eta - cos_inside;
@@ -363,16 +372,17 @@ fn close_in(miss: &impl Fn(Real) -> Option<Real>, mut low: Try, mut high: Try) -
 /// assert!((density - 1.0 / 64.0).abs() < 1e-3 / 64.0);
 /// ```
 pub fn bounce_density(ball: &Ball, from: Vec3, dir: Vec3, pdf: Real, at: Vec3, normal: Vec3) -> Real {
-    let Some(taken) = ball.pass(from, dir) else { return 0.0 };
     // In double precision: from a point near the glass (the floor round the ball's foot) a
     // turn of a thousandth moves the entry by less than an `f32` resolves at the scene's
     // size, and the spread came out wrong (`tests/agreement.rs`).
-    let (from, dir, at, normal) = (wide(from), wide(dir), wide(at), wide(normal));
+    let (from, dir, at, normal) = (to_dvec3(from), to_dvec3(dir).normalize(), to_dvec3(at), to_dvec3(normal));
+    let Some(taken) = ball.crossing(from, dir) else { return 0.0 };
     let land = |dir: DVec3| land(ball, from, dir, at, normal);
     let (u, v) = dir.any_orthonormal_pair();
     let turned = |a: f64, b: f64| land((dir + a * u + b * v).normalize());
     let step = f64::from(STEP);
-    let (Some(centre), Some(along_u), Some(along_v)) = (land(dir), turned(step, 0.0), turned(0.0, step))
+    let (Some(centre), Some(along_u), Some(along_v)) =
+        (onto(&taken, at, normal), turned(step, 0.0), turned(0.0, step))
     else {
         return 0.0;
     };
@@ -381,35 +391,16 @@ pub fn bounce_density(ball: &Ball, from: Vec3, dir: Vec3, pdf: Real, at: Vec3, n
     if density.is_finite() { density } else { 0.0 }
 }
 
-/// A vector in double precision.
-fn wide(v: Vec3) -> DVec3 {
-    DVec3::new(v.x.into(), v.y.into(), v.z.into())
+/// Where the ray from `from` along the unit `dir` lands on the plane through `at` with unit
+/// `normal` after passing through `ball` ([`Ball::crossing`], in double precision, for
+/// [`bounce_density`]'s differences; public for `tests/sampling_paths.rs`, which needs the
+/// landing point as precisely).
+pub fn land(ball: &Ball, from: DVec3, dir: DVec3, at: DVec3, normal: DVec3) -> Option<DVec3> {
+    onto(&ball.crossing(from, dir)?, at, normal)
 }
 
-/// Where the ray from `from` along the unit `dir` lands on the plane through `at` with unit
-/// `normal` after passing through `ball`: [`Ball::pass`] in double precision, for
-/// [`bounce_density`]'s differences (public for `tests/sampling_paths.rs`, which needs the
-/// landing point as precisely: half a unit from `cornell`'s ball's foot, `Ball::pass` in `f32`
-/// lands a median 0.2 and up to 1.7 units off on its lamp).
-pub fn land(ball: &Ball, from: DVec3, dir: DVec3, at: DVec3, normal: DVec3) -> Option<DVec3> {
-    let (center, radius, ior) =
-        (wide(ball.sphere.center), f64::from(ball.sphere.radius), f64::from(ball.ior));
-    let refract = |v: DVec3, n: DVec3, eta: f64| {
-        let cos = (-v).dot(n).min(1.0);
-        let perp = eta * (v + cos * n);
-        let k = 1.0 - perp.length_squared();
-        (k >= 0.0).then(|| (perp - k.sqrt() * n).normalize())
-    };
-    let f = from - center;
-    let b = f.dot(dir);
-    let discriminant = radius * radius - (f - b * dir).length_squared();
-    if discriminant <= 0.0 || b >= 0.0 {
-        return None;
-    }
-    let entry = from + (-b - discriminant.sqrt()) * dir;
-    let inside = refract(dir, (entry - center) / radius, 1.0 / ior)?;
-    let exit = entry - 2.0 * (entry - center).dot(inside) * inside;
-    let out = refract(inside, (center - exit) / radius, ior)?;
-    let t = (at - exit).dot(normal) / out.dot(normal);
-    (t > 0.0 && t.is_finite()).then(|| exit + t * out)
+/// Where `crossing` lands on the plane through `at` with unit `normal`.
+fn onto(crossing: &Crossing, at: DVec3, normal: DVec3) -> Option<DVec3> {
+    let t = (at - crossing.exit).dot(normal) / crossing.out.dot(normal);
+    (t > 0.0 && t.is_finite()).then(|| crossing.exit + t * crossing.out)
 }

@@ -12,11 +12,13 @@
 //! Invariant: [`Casters::holding`] names the caster whose surface holds a point, so a bounce
 //! that entered and left a ball is recognised as the passage [`Ball::pass`] follows.
 
+use glam::DVec3;
+
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::Aabb;
 use crate::tracer::math::real::consts::PI;
-use crate::tracer::math::real::{Real, Vec3};
-use crate::tracer::shading::material::{Fresnel, Material, refract};
+use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3, to_f64};
+use crate::tracer::shading::material::{Fresnel, Material};
 use crate::tracer::world::object::Object;
 
 /// A solid glass ball.
@@ -30,9 +32,13 @@ pub struct Ball {
     pub fresnel: Fresnel,
 }
 
-/// A ray's way through a [`Ball`]: in at `entry`, out at `exit` along `out`.
+/// A ray's way through a [`Ball`]: along `dir` in at `entry`, out at `exit` along `out`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Passage {
+    /// Its unit direction from the start. Not `entry − start` rounded: from a start near the
+    /// glass, an `f32` entry point is a turn of the ray off that misses a lamp by units
+    /// (`tests/sampling_paths.rs`); a unit vector holds the direction.
+    pub dir: Vec3,
     /// Where it enters (on the side it came from).
     pub entry: Vec3,
     /// Its unit direction inside.
@@ -44,6 +50,48 @@ pub struct Passage {
     /// The chance that glass refracts at both points (Schlick's `(1 − R)` twice): the share
     /// of the light that takes this way, and the chance a bounce takes it.
     pub transmitted: Real,
+}
+
+/// A [`Passage`] in double precision.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Crossing {
+    /// Its unit direction from the start.
+    pub dir: DVec3,
+    /// Where it enters (on the side it came from).
+    pub entry: DVec3,
+    /// Its unit direction inside.
+    pub inside: DVec3,
+    /// Where it leaves.
+    pub exit: DVec3,
+    /// Its unit direction after leaving.
+    pub out: DVec3,
+    /// As [`Passage::transmitted`].
+    pub transmitted: Real,
+}
+
+impl Crossing {
+    /// The passage, rounded to the renderer's precision.
+    pub fn rounded(self) -> Passage {
+        let Crossing { dir, entry, inside, exit, out, transmitted } = self;
+        let round = from_dvec3;
+        Passage {
+            dir: round(dir),
+            entry: round(entry),
+            inside: round(inside),
+            exit: round(exit),
+            out: round(out),
+            transmitted,
+        }
+    }
+}
+
+/// The unit direction of `v` refracted at a surface of unit normal `n` facing it, from a side
+/// whose index over the other's is `eta` (`shading::material::refract` in double precision).
+fn refract(v: DVec3, n: DVec3, eta: f64) -> Option<DVec3> {
+    let cos = (-v).dot(n).min(1.0);
+    let perp = eta * (v + cos * n);
+    let k = 1.0 - perp.length_squared();
+    (k >= 0.0).then(|| (perp - k.sqrt() * n).normalize())
 }
 
 impl Ball {
@@ -71,7 +119,7 @@ impl Ball {
     }
 
     /// The passage of the ray from `from` (outside) along the unit `dir`, if it meets the
-    /// ball at an angle it can refract at.
+    /// ball at an angle it can refract at ([`Ball::crossing`], rounded).
     ///
     /// ```
     /// use raypool::tracer::geometry::sphere::Sphere;
@@ -84,39 +132,49 @@ impl Ball {
     /// assert!((passage.transmitted - 0.96 * 0.96).abs() < 1e-5);
     /// ```
     pub fn pass(&self, from: Vec3, dir: Vec3) -> Option<Passage> {
-        let f = from - self.sphere.center;
+        self.crossing(to_dvec3(from), to_dvec3(dir)).map(Crossing::rounded)
+    }
+
+    /// [`Ball::pass`] in double precision.
+    pub fn crossing(&self, from: DVec3, dir: DVec3) -> Option<Crossing> {
+        let (center, radius) = (to_dvec3(self.sphere.center), to_f64(self.sphere.radius));
+        let f = from - center;
         let b = f.dot(dir);
         // The robust form (as `Sphere::intersect`): the centre's distance from the line.
         let perp = f - b * dir;
-        let r2 = self.sphere.radius * self.sphere.radius;
+        let r2 = radius * radius;
         let discriminant = r2 - perp.length_squared();
         if f.length_squared() <= r2 || discriminant <= 0.0 || b >= 0.0 {
             return None;
         }
         let t = -b - discriminant.sqrt();
-        self.pass_at(from, from + t * dir)
+        self.cross(from, from + t * dir)
     }
 
     /// The passage of the ray from `from` that enters at `entry`, a point of the ball's
-    /// surface that `from` sees (the way [`Ball::pass`] ends, and how a solver tries points).
-    pub fn pass_at(&self, from: Vec3, entry: Vec3) -> Option<Passage> {
-        let (center, radius) = (self.sphere.center, self.sphere.radius);
+    /// surface that `from` sees (the way [`Ball::crossing`] ends, and how a solver tries
+    /// points). In double precision: from a start near the glass, where rays enter it all
+    /// but edge-on, `f32` turns them wrongly enough to miss a lamp by units
+    /// (`tests/sampling_paths.rs`).
+    pub fn cross(&self, from: DVec3, entry: DVec3) -> Option<Crossing> {
+        let (center, radius, ior) =
+            (to_dvec3(self.sphere.center), to_f64(self.sphere.radius), to_f64(self.ior));
         let dir = (entry - from).try_normalize()?;
         let normal = (entry - center) / radius;
         let cos_in = -dir.dot(normal);
         if cos_in <= 0.0 {
             return None;
         }
-        let inside = refract(dir, normal, 1.0 / self.ior)?;
+        let inside = refract(dir, normal, 1.0 / ior)?;
         // The chord: the second root of |entry + t·inside − centre| = radius.
         let chord = -2.0 * (entry - center).dot(inside);
         let exit = entry + chord * inside;
         let exit_normal = (exit - center) / radius;
         let cos_out = inside.dot(exit_normal);
-        let out = refract(inside, -exit_normal, self.ior)?;
-        let reflected = |cos, ratio| self.fresnel.reflectance(cos, ratio);
+        let out = refract(inside, -exit_normal, ior)?;
+        let reflected = |cos: f64, ratio| self.fresnel.reflectance(cos as Real, ratio);
         let transmitted = (1.0 - reflected(cos_in, 1.0 / self.ior)) * (1.0 - reflected(cos_out, self.ior));
-        Some(Passage { entry, inside, exit, out, transmitted })
+        Some(Crossing { dir, entry, inside, exit, out, transmitted })
     }
 
     /// The widest angle, seen from the centre, between the way in from a start outside and the

@@ -2,7 +2,8 @@
 //! XORed onto a seed (the render seed, a pixel's, a path's or a ray's) to make the seed of
 //! another stream; where the code also XORs an index on (an edge ray's point, a connection's
 //! vertex counts, a manifold sample's piece), the test below checks the keys with those
-//! indices too. The values are those the images were made with: changing one changes images.
+//! indices too, and every value with the medium ids XORed on as a ray's media draw them. The
+//! values are those the images were made with: changing one changes images.
 
 /// Render seed → each pixel's Sobol scramble seed (`sobol.rs`).
 pub const SOBOL_KEY: u64 = 0x536F_626F_6C00_0000;
@@ -24,14 +25,15 @@ pub const SHADOW_KEY: u64 = 0x5ad0_0000_0000_0001;
 pub const GLINT_KEY: u64 = 0x6711_0000_0000_0001;
 
 /// A shadow ray's media seed → piece `k` (1 to 3) of a manifold sample, XORed on as `k ×`
-/// this key (`lighting/manifold.rs`). [`Probe::uniform`] turns medium ids into numbers by the
-/// same multiplier, so piece `k` in medium `m` draws what piece `m` draws in medium `k` (and,
-/// for `m` = 0, what the shadow ray draws in medium `k`): pieces through media on both sides
-/// of a glass ball can share a number. A new multiplier would change images with media and
-/// casters.
+/// this key (`lighting/manifold.rs`). It was [`MEDIUM_KEY`] until the test below covered media
+/// ids: piece `k` in medium `m` then drew what piece `m` drew in medium `k`.
+pub const PIECE_KEY: u64 = 0x7069_6563_6500_0001;
+
+/// A ray's media seed → the number medium `id` draws, XORed on as `id ×` this key
+/// ([`Probe::uniform`]).
 ///
 /// [`Probe::uniform`]: crate::tracer::world::object::Probe::uniform
-pub const PIECE_KEY: u64 = 0x9E37_79B9_7F4A_7C15;
+pub const MEDIUM_KEY: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// A path's media seed → its edge ray `spot`'s, XORed on with the spot's number
 /// (`lighting/edges.rs`).
@@ -49,6 +51,9 @@ mod tests {
     use std::collections::HashMap;
 
     use super::*;
+
+    /// Media ids the test gives each stream: a scene's first 64 media.
+    const MEDIA: u64 = 64;
 
     #[test]
     fn no_two_streams_share_a_seed() {
@@ -71,12 +76,29 @@ mod tests {
             ("CONNECT_KEY", vertices.collect()),
         ];
         let mut seen = HashMap::new();
-        for (name, values) in derived {
-            for value in values {
-                if let Some(other) = seen.insert(value, name) {
-                    assert_eq!(other, name, "{other} and {name} both make {value:#x}");
+        for (name, values) in &derived {
+            for &value in values {
+                if let Some(other) = seen.insert(value, *name) {
+                    assert_eq!(other, *name, "{other} and {name} both make {value:#x}");
                 }
             }
+        }
+        // What medium `m` draws on each stream: no two (stream, medium) pairs may meet, within
+        // one key's family too (piece 1 in medium 2 against piece 2 in medium 1).
+        let mut drawn: Vec<(u64, &str, usize, u64)> = derived
+            .iter()
+            .flat_map(|(name, values)| values.iter().enumerate().map(move |(k, &value)| (value, *name, k)))
+            .flat_map(|(value, name, k)| {
+                (0..MEDIA).map(move |m| (value ^ m.wrapping_mul(MEDIUM_KEY), name, k, m))
+            })
+            .collect();
+        drawn.sort_unstable();
+        for pair in drawn.windows(2) {
+            let [(value, name, k, m), (other, name2, k2, m2)] = [pair[0], pair[1]];
+            assert_ne!(
+                value, other,
+                "{name}[{k}] in medium {m} and {name2}[{k2}] in medium {m2} draw the same"
+            );
         }
     }
 }

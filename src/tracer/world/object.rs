@@ -18,6 +18,7 @@ use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::sampling::independent::mix;
+use crate::tracer::sampling::keys::MEDIUM_KEY;
 use crate::tracer::world::mesh::Mesh;
 use std::sync::Arc;
 
@@ -36,7 +37,7 @@ pub struct Probe {
 impl Probe {
     /// A number in `(0, 1]` for medium `id`, independent of every other medium's.
     pub fn uniform(&self, id: u32) -> Real {
-        let bits = mix(self.medium_seed ^ u64::from(id).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        let bits = mix(self.medium_seed ^ u64::from(id).wrapping_mul(MEDIUM_KEY));
         ((bits >> 40) + 1) as Real * (1.0 / (1u64 << 24) as Real)
     }
 }
