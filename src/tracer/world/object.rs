@@ -12,34 +12,16 @@ use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
+use crate::tracer::geometry::quads::LANES;
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::math::transform::Transform;
-use crate::tracer::sampling::independent::mix;
 use crate::tracer::world::mesh::Mesh;
+pub use crate::tracer::world::probe::Probe;
+use crate::tracer::world::runs::{Deferred, Run};
 use std::sync::Arc;
-
-/// What a search needs besides the ray: the time the camera ray sampled (for moving shapes)
-/// and the random seed media draw their scattering distances from.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Probe {
-    /// In `[0, 1)`: where in the shutter interval the path was sampled.
-    pub time: Real,
-    /// Drawn once per ray (only in scenes with media). Each medium turns it into its own
-    /// number with its own id ([`Probe::uniform`]), so what a medium draws does not depend on
-    /// the order in which a tree visits objects: `--accel` changes no pixel.
-    pub medium_seed: u64,
-}
-
-impl Probe {
-    /// A number in `(0, 1]` for medium `id`, independent of every other medium's.
-    pub fn uniform(&self, id: u32) -> Real {
-        let bits = mix(self.medium_seed ^ u64::from(id).wrapping_mul(0x9E37_79B9_7F4A_7C15));
-        ((bits >> 40) + 1) as Real * (1.0 / (1u64 << 24) as Real)
-    }
-}
 
 /// One object of a scene or of a group.
 #[derive(Clone, Debug)]
@@ -168,45 +150,80 @@ impl Bounded for Object {
 // ---- Groups:
 // A group: objects searched together, through a four-wide tree of their boxes once there are
 // enough of them (the same trees `accel` builds for spheres). A scene's world is a group; so
-// is what an instance places and what bounds a medium.
+// is what an instance places and what bounds a medium. Its objects are searched in runs of up
+// to four, a run's quads four at once (`runs.rs`), and only the closest hit's record is made,
+// at the end.
 //
 // Ties in distance go to the lower index ([`Closest`]), so a group searched through its tree
 // finds exactly what testing its objects in order finds (`--accel flat`).
 
-/// Groups of fewer objects than this test them all: a tree costs more than it saves.
+/// Groups of fewer objects than this keep the order they were given; larger ones are ordered
+/// as their tree's leaves, the order in which ties go to the lower index.
 pub const TREE_MIN_OBJECTS: usize = 6;
 
-/// Objects per leaf of a group's four-wide tree.
-const LEAF: usize = 4;
+/// Groups of at most this many objects are searched without their tree, run after run, once
+/// the ray enters their box: a tree's traversal costs more than it saves there.
+const FLAT_MAX_OBJECTS: usize = 8;
+
+/// Objects per leaf of a group's four-wide tree: one run each.
+const LEAF: usize = LANES;
 
 /// Objects, and the tree over them (none for small groups, or when asked for none).
 #[derive(Clone, Debug)]
 pub struct Group {
     objects: Vec<Object>,
     tree: Option<WideBvh>,
+    /// With a tree, run `k` is its leaf `k` (`WideBvh::number_leaves`); without, objects
+    /// `4k..4k + 4`.
+    runs: Vec<Run>,
     bounds: Aabb,
     /// Whether a medium is among `objects` (then asked after the surfaces).
     media: bool,
 }
 
+/// Which object holds the closest hit so far, and what its record will be made from.
+enum Best {
+    Nothing,
+    /// A quad: the hit's `(α, β)` (its distance is the closest one).
+    Quad(Real, Real),
+    /// Any other object: its whole record.
+    Other(Hit),
+}
+
 impl Group {
-    /// A group of `objects`, with a tree if there are at least [`TREE_MIN_OBJECTS`] of them
-    /// (which reorders them).
+    /// A group of `objects`, ordered by a tree if there are at least [`TREE_MIN_OBJECTS`] of
+    /// them, and searched through it if there are more than [`FLAT_MAX_OBJECTS`].
     pub fn new(objects: Vec<Object>) -> Group {
         let tree = objects.len() >= TREE_MIN_OBJECTS;
         Group::with_tree(objects, tree)
     }
 
-    /// A group of `objects`, searched through a tree or, with `tree` false, one by one in
-    /// their current order.
+    /// A group of `objects`, ordered by a tree and searched through it (if there are more than
+    /// [`FLAT_MAX_OBJECTS`]) or, with `tree` false, searched one run after another in their
+    /// current order.
     pub fn with_tree(mut objects: Vec<Object>, tree: bool) -> Group {
         let bounds = objects.iter().map(Bounded::bounds).fold(Aabb::EMPTY, Aabb::union);
-        let tree = (tree && !objects.is_empty()).then(|| {
+        let mut tree = (tree && !objects.is_empty()).then(|| {
             let binary = Bvh::build_with_leaves(&mut objects, LEAF);
             WideBvh::collapse_plain(&binary, objects.len())
         });
+        tree = tree.filter(|_| objects.len() > FLAT_MAX_OBJECTS);
+        let ranges = match &mut tree {
+            Some(tree) => tree.number_leaves(),
+            None => (0..objects.len()).step_by(LANES).map(|s| s..(s + LANES).min(objects.len())).collect(),
+        };
+        let runs = ranges
+            .into_iter()
+            .map(|range| {
+                let quad = |k: usize| match objects[range.clone()].get(k) {
+                    Some(Object::Quad(quad)) => Some(quad),
+                    _ => None,
+                };
+                Run::new(range.start, range.len(), std::array::from_fn(quad))
+            })
+            .collect();
         let media = objects.iter().any(|o| matches!(o, Object::Medium(_)));
-        Group { objects, tree, bounds, media }
+        Group { objects, tree, runs, bounds, media }
     }
 
     /// The same objects searched the other way (for `--accel` comparisons).
@@ -233,73 +250,65 @@ impl Group {
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
         let mut closest = Closest::none(t_max);
-        let mut best = None;
-        let mut offer = |i: usize, closest: &mut Closest| {
-            if let Some(hit) = self.objects[i].hit(ray, closest.bound(), probe) {
-                closest.offer(hit.t, i as u32);
-                if closest.index == i as u32 {
-                    best = Some((hit, i));
-                }
-            }
-        };
+        let mut best = Best::Nothing;
         // Media are asked last, when the nearest surface bounds how far they must look
         // ([`Medium::hit`] then rarely searches its boundary).
         let mut media = Deferred::default();
-        let mut visit = |i: usize, closest: &mut Closest| {
-            if !(self.media && matches!(self.objects[i], Object::Medium(_)) && media.defer(i)) {
-                offer(i, closest)
+        let mut visit = |run: &Run, closest: &mut Closest| {
+            if let Some((alpha, beta)) = run.offer_quads(ray, closest) {
+                best = Best::Quad(alpha, beta);
+            }
+            for i in run.others() {
+                if !(self.media && matches!(self.objects[i], Object::Medium(_)) && media.defer(i)) {
+                    self.offer(i, ray, probe, closest, &mut best);
+                }
             }
         };
         match &self.tree {
-            None => (0..self.objects.len()).for_each(|i| visit(i, &mut closest)),
+            None if !self.bounds.enters(ray, t_max) => return None,
+            None => self.runs.iter().for_each(|run| visit(run, &mut closest)),
             Some(tree) => {
-                tree.traverse(ray, &mut closest, |leaf, closest| leaf.for_each(|i| visit(i, closest)))
+                tree.traverse(ray, &mut closest, |leaf, closest| visit(&self.runs[leaf.start], closest))
             }
         }
-        media.each(|i| offer(i, &mut closest));
-        best.map(|(hit, i)| self.objects[i].with_uv(hit, probe))
+        media.each(|i| self.offer(i, ray, probe, &mut closest, &mut best));
+        match (best, self.objects.get(closest.index as usize)?) {
+            (Best::Quad(alpha, beta), Object::Quad(quad)) => Some(quad.hit_at(ray, closest.t, alpha, beta)),
+            (Best::Other(hit), object) => Some(object.with_uv(hit, probe)),
+            _ => None,
+        }
+    }
+
+    /// Asks object `i` alone for its hit below the closest so far, and keeps it if closer.
+    #[inline(always)]
+    fn offer(&self, i: usize, ray: &Ray, probe: &Probe, closest: &mut Closest, best: &mut Best) {
+        if let Some(hit) = self.objects[i].hit(ray, closest.bound(), probe) {
+            closest.offer(hit.t, i as u32);
+            if closest.index == i as u32 {
+                *best = Best::Other(hit);
+            }
+        }
     }
 
     /// Whether anything in the group is hit in `(0, t_max)`: the search ends at the first
     /// object found (pbrt's `IntersectP`, Embree's `rtcOccluded`).
     #[inline]
     pub fn occludes(&self, ray: &Ray, t_max: Real, probe: &Probe) -> bool {
+        let blocks = |run: &Run| {
+            run.quads_block(ray, t_max) || run.others().any(|i| self.objects[i].occludes(ray, t_max, probe))
+        };
         let Some(tree) = &self.tree else {
-            return self.objects.iter().any(|o| o.occludes(ray, t_max, probe));
+            return self.bounds.enters(ray, t_max) && self.runs.iter().any(blocks);
         };
         let mut closest = Closest::none(t_max);
         let mut found = false;
         tree.traverse(ray, &mut closest, |leaf, closest| {
-            if leaf.into_iter().any(|i| self.objects[i].occludes(ray, t_max, probe)) {
+            if blocks(&self.runs[leaf.start]) {
                 found = true;
                 closest.rule_out_rest();
             }
         });
         found
-    }
-}
-
-/// Up to four objects' indices kept to be asked later; a fifth is asked at once.
-#[derive(Default)]
-struct Deferred {
-    indices: [u32; 4],
-    len: usize,
-}
-
-impl Deferred {
-    /// Keeps `i` for later; `false` when full.
-    fn defer(&mut self, i: usize) -> bool {
-        let kept = self.len < self.indices.len();
-        if kept {
-            self.indices[self.len] = i as u32;
-            self.len += 1;
-        }
-        kept
-    }
-
-    /// Calls `each` with every kept index, in the order kept.
-    fn each(&self, mut each: impl FnMut(usize)) {
-        self.indices[..self.len].iter().for_each(|&i| each(i as usize));
     }
 }
 
