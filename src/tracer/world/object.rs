@@ -179,6 +179,9 @@ pub struct Group {
     bounds: Aabb,
     /// Whether a medium is among `objects` (then asked after the surfaces).
     media: bool,
+    /// Whether the closest hit gets its sphere's texture coordinates (an arc cosine and an
+    /// arc tangent): only where a material reads them ([`Group::keep_uv_for`]).
+    uv: bool,
 }
 
 /// Which object holds the closest hit so far, and what its record will be made from.
@@ -212,23 +215,30 @@ impl Group {
             Some(tree) => tree.number_leaves(),
             None => (0..objects.len()).step_by(LANES).map(|s| s..(s + LANES).min(objects.len())).collect(),
         };
-        let runs = ranges
-            .into_iter()
-            .map(|range| {
-                let quad = |k: usize| match objects[range.clone()].get(k) {
-                    Some(Object::Quad(quad)) => Some(quad),
-                    _ => None,
-                };
-                Run::new(range.start, range.len(), std::array::from_fn(quad))
-            })
-            .collect();
+        let quad = |i: usize| if let Object::Quad(quad) = &objects[i] { Some(quad) } else { None };
+        let runs = ranges.into_iter().map(|range| Run::new(range, quad)).collect();
         let media = objects.iter().any(|o| matches!(o, Object::Medium(_)));
-        Group { objects, tree, runs, bounds, media }
+        Group { objects, tree, runs, bounds, media, uv: true }
     }
 
     /// The same objects searched the other way (for `--accel` comparisons).
     pub fn rebuilt(self, tree: bool) -> Group {
-        Group::with_tree(self.objects, tree)
+        Group { uv: self.uv, ..Group::with_tree(self.objects, tree) }
+    }
+
+    /// Makes texture coordinates only for the spheres whose material `reads_uv`, here and in
+    /// the groups inside (a medium's boundary never: its hits are not shaded).
+    pub fn keep_uv_for(&mut self, reads_uv: &dyn Fn(u32) -> bool) {
+        self.uv = false;
+        for object in &mut self.objects {
+            match object {
+                Object::Sphere(sphere) => self.uv |= reads_uv(sphere.material),
+                Object::Moving(moving) => self.uv |= reads_uv(moving.material),
+                Object::Instance(instance) => instance.group.keep_uv_for(reads_uv),
+                Object::Medium(medium) => medium.boundary.keep_uv_for(&|_| false),
+                Object::Quad(_) | Object::Mesh(..) => {}
+            }
+        }
     }
 
     /// The objects, in the order the tree stored them.
@@ -274,7 +284,7 @@ impl Group {
         media.each(|i| self.offer(i, ray, probe, &mut closest, &mut best));
         match (best, self.objects.get(closest.index as usize)?) {
             (Best::Quad(alpha, beta), Object::Quad(quad)) => Some(quad.hit_at(ray, closest.t, alpha, beta)),
-            (Best::Other(hit), object) => Some(object.with_uv(hit, probe)),
+            (Best::Other(hit), object) => Some(if self.uv { object.with_uv(hit, probe) } else { hit }),
             _ => None,
         }
     }

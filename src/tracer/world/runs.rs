@@ -7,6 +7,8 @@
 //! hit below the bound it is given, and the closest is the least `(distance, index)` of them
 //! all ([`Closest`]), whatever the order they were offered in.
 
+use std::ops::Range;
+
 use crate::tracer::geometry::hit::Closest;
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::quads::{LANES, QuadPacket};
@@ -26,13 +28,15 @@ pub struct Run {
 }
 
 impl Run {
-    /// The run of `count` objects from the group's object `start` on; `quads[k]` is object
-    /// `start + k` if that is a quad.
-    pub fn new(start: usize, count: usize, quads: [Option<&Quad>; LANES]) -> Run {
-        assert!(count <= LANES, "a run of {count} objects");
-        let quads_mask = (0..count).filter(|&k| quads[k].is_some()).fold(0, |m, k| m | 1 << k);
-        let others = (0..count).filter(|&k| quads[k].is_none()).fold(0, |m, k| m | 1 << k);
-        Run { start: start as u32, quads_mask, others, quads: QuadPacket::new(quads) }
+    /// The run of the group's objects `range`, where `quad(i)` is object `i` if that is a
+    /// quad.
+    pub fn new<'a>(range: Range<usize>, quad: impl Fn(usize) -> Option<&'a Quad>) -> Run {
+        assert!(range.len() <= LANES, "a run of {} objects", range.len());
+        let quads: [Option<&Quad>; LANES] =
+            std::array::from_fn(|k| (k < range.len()).then(|| quad(range.start + k)).flatten());
+        let quads_mask = (0..range.len()).filter(|&k| quads[k].is_some()).fold(0, |m, k| m | 1 << k);
+        let others = (0..range.len()).filter(|&k| quads[k].is_none()).fold(0, |m, k| m | 1 << k);
+        Run { start: range.start as u32, quads_mask, others, quads: QuadPacket::new(quads) }
     }
 
     /// Offers its quads' nearest hit below `closest`'s bound to `closest`; if it became the
