@@ -243,7 +243,7 @@ fn a_packet_of_quads_finds_bit_for_bit_what_each_quad_finds_alone() {
                 );
                 closest.offer(t, lane as u32);
                 hits += 1;
-                edges += usize::from(a < 0.0 || a > 1.0 || b < 0.0 || b > 1.0);
+                edges += usize::from(!(0.0..=1.0).contains(&a) || !(0.0..=1.0).contains(&b));
             }
         }
         assert_eq!(found.nearest(), closest.found().map(|(lane, _)| lane), "ray {k}");

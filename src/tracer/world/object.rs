@@ -20,7 +20,7 @@ use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::world::mesh::Mesh;
 pub use crate::tracer::world::probe::Probe;
-use crate::tracer::world::runs::{Deferred, Run};
+use crate::tracer::world::runs::{Item, Kind, Runs};
 use std::sync::Arc;
 
 /// One object of a scene or of a group.
@@ -168,17 +168,13 @@ const FLAT_MAX_OBJECTS: usize = 8;
 /// Objects per leaf of a group's four-wide tree: one run each.
 const LEAF: usize = LANES;
 
-/// Objects, and the tree over them (none for small groups, or when asked for none).
+/// Objects, and how they are searched: a tree over them (none for small groups, or when
+/// asked for none), the runs of its leaves, and the media apart (`runs.rs`).
 #[derive(Clone, Debug)]
 pub struct Group {
     objects: Vec<Object>,
-    tree: Option<WideBvh>,
-    /// With a tree, run `k` is its leaf `k` (`WideBvh::number_leaves`); without, objects
-    /// `4k..4k + 4`.
-    runs: Vec<Run>,
+    runs: Runs,
     bounds: Aabb,
-    /// Whether a medium is among `objects` (then asked after the surfaces).
-    media: bool,
     /// Whether the closest hit gets its sphere's texture coordinates (an arc cosine and an
     /// arc tangent): only where a material reads them ([`Group::keep_uv_for`]).
     uv: bool,
@@ -211,14 +207,20 @@ impl Group {
             WideBvh::collapse_plain(&binary, objects.len())
         });
         tree = tree.filter(|_| objects.len() > FLAT_MAX_OBJECTS);
-        let ranges = match &mut tree {
-            Some(tree) => tree.number_leaves(),
-            None => (0..objects.len()).step_by(LANES).map(|s| s..(s + LANES).min(objects.len())).collect(),
-        };
-        let quad = |i: usize| if let Object::Quad(quad) = &objects[i] { Some(quad) } else { None };
-        let runs = ranges.into_iter().map(|range| Run::new(range, quad)).collect();
-        let media = objects.iter().any(|o| matches!(o, Object::Medium(_)));
-        Group { objects, tree, runs, bounds, media, uv: true }
+        let items: Vec<Item> = objects
+            .iter()
+            .map(|object| Item {
+                bounds: object.bounds(),
+                centroid: object.centroid(),
+                kind: match object {
+                    Object::Quad(quad) => Kind::Quad(quad),
+                    Object::Medium(_) => Kind::Medium,
+                    _ => Kind::Other,
+                },
+            })
+            .collect();
+        let runs = Runs::new(&items, tree);
+        Group { objects, runs, bounds, uv: true }
     }
 
     /// The same objects searched the other way (for `--accel` comparisons).
@@ -248,7 +250,7 @@ impl Group {
 
     /// Whether a tree is searched.
     pub fn has_tree(&self) -> bool {
-        self.tree.is_some()
+        self.runs.has_tree()
     }
 
     /// `(moves, media)`: whether any object moves, or is a medium.
@@ -261,27 +263,18 @@ impl Group {
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
         let mut closest = Closest::none(t_max);
         let mut best = Best::Nothing;
-        // Media are asked last, when the nearest surface bounds how far they must look
-        // ([`Medium::hit`] then rarely searches its boundary).
-        let mut media = Deferred::default();
-        let mut visit = |run: &Run, closest: &mut Closest| {
+        if !self.has_tree() && !self.bounds.enters(ray, t_max) {
+            return None;
+        }
+        self.runs.search(ray, &mut closest, |run, closest| {
             if let Some((alpha, beta)) = run.offer_quads(ray, closest) {
                 best = Best::Quad(alpha, beta);
             }
-            for i in run.others() {
-                if !(self.media && matches!(self.objects[i], Object::Medium(_)) && media.defer(i)) {
-                    self.offer(i, ray, probe, closest, &mut best);
-                }
-            }
-        };
-        match &self.tree {
-            None if !self.bounds.enters(ray, t_max) => return None,
-            None => self.runs.iter().for_each(|run| visit(run, &mut closest)),
-            Some(tree) => {
-                tree.traverse(ray, &mut closest, |leaf, closest| visit(&self.runs[leaf.start], closest))
-            }
-        }
-        media.each(|i| self.offer(i, ray, probe, &mut closest, &mut best));
+            run.others().for_each(|i| self.offer(i, ray, probe, closest, &mut best));
+        });
+        // Media last, when the nearest surface bounds how far they must look ([`Medium::hit`]
+        // then rarely searches its boundary).
+        self.runs.media().for_each(|i| self.offer(i, ray, probe, &mut closest, &mut best));
         match (best, self.objects.get(closest.index as usize)?) {
             (Best::Quad(alpha, beta), Object::Quad(quad)) => Some(quad.hit_at(ray, closest.t, alpha, beta)),
             (Best::Other(hit), object) => Some(if self.uv { object.with_uv(hit, probe) } else { hit }),
@@ -304,21 +297,19 @@ impl Group {
     /// object found (pbrt's `IntersectP`, Embree's `rtcOccluded`).
     #[inline]
     pub fn occludes(&self, ray: &Ray, t_max: Real, probe: &Probe) -> bool {
-        let blocks = |run: &Run| {
-            run.quads_block(ray, t_max) || run.others().any(|i| self.objects[i].occludes(ray, t_max, probe))
-        };
-        let Some(tree) = &self.tree else {
-            return self.bounds.enters(ray, t_max) && self.runs.iter().any(blocks);
-        };
-        let mut closest = Closest::none(t_max);
+        if !self.has_tree() && !self.bounds.enters(ray, t_max) {
+            return false;
+        }
+        let blocks = |i: usize| self.objects[i].occludes(ray, t_max, probe);
         let mut found = false;
-        tree.traverse(ray, &mut closest, |leaf, closest| {
-            if blocks(&self.runs[leaf.start]) {
+        let mut closest = Closest::none(t_max);
+        self.runs.search(ray, &mut closest, |run, closest| {
+            if run.quads_block(ray, t_max) || run.others().any(blocks) {
                 found = true;
                 closest.rule_out_rest();
             }
         });
-        found
+        found || self.runs.media().any(blocks)
     }
 }
 
@@ -327,7 +318,7 @@ impl Bounded for Group {
         self.bounds
     }
 
-    fn centroid(&self) -> crate::tracer::math::real::Vec3 {
+    fn centroid(&self) -> Vec3 {
         0.5 * (self.bounds.min + self.bounds.max)
     }
 }

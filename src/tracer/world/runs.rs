@@ -1,44 +1,150 @@
-//! A group's objects searched in **runs** of up to four: a leaf of the group's tree each, or,
-//! without a tree, four in a row. A run's quads sit in the lanes of one [`QuadPacket`] and are
-//! tested together; its other objects are asked one by one (`object.rs`, which holds the
-//! group).
+//! How a group's objects are searched ([`Runs`]): its surfaces in **runs** of up to four, a
+//! leaf of a tree each or, for a small group, four in a row, each run's quads in the lanes of
+//! one [`QuadPacket`] and its other objects asked one by one; and its media asked last, when
+//! the nearest surface bounds how far they must look (`object.rs`, which holds the group, asks
+//! the objects themselves).
 //!
-//! The order in which a run asks its objects changes nothing: each object reports its nearest
-//! hit below the bound it is given, and the closest is the least `(distance, index)` of them
-//! all ([`Closest`]), whatever the order they were offered in.
+//! The media stay out of the tree: a thin fog's box spans the whole world (the second book's
+//! spans 10,000 units), and in a leaf it would send every ray through that leaf and the
+//! surfaces that share it. The order in which objects are asked changes nothing: each reports
+//! its nearest hit below the bound it is given, and the closest is the least
+//! `(distance, index)` of them all ([`Closest`]), whatever the order it was offered in.
 
-use std::ops::Range;
-
+use crate::tracer::accel::bvh::Bvh;
+use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::geometry::hit::Closest;
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::quads::{LANES, QuadPacket};
+use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
-use crate::tracer::math::real::Real;
+use crate::tracer::math::real::{Real, Vec3};
+
+/// What the search needs to know of one of a group's objects.
+pub struct Item<'a> {
+    /// Its box.
+    pub bounds: Aabb,
+    /// The point a tree's build sorts it by.
+    pub centroid: Vec3,
+    /// What it is.
+    pub kind: Kind<'a>,
+}
+
+/// The kinds the search treats apart.
+pub enum Kind<'a> {
+    /// A quad: tested in a packet's lane.
+    Quad(&'a Quad),
+    /// A medium: asked last.
+    Medium,
+    /// Anything else: asked on its own.
+    Other,
+}
+
+/// A group's search: its surfaces' runs (through a tree, or one after another) and its media.
+#[derive(Clone, Debug)]
+pub struct Runs {
+    /// Over the surfaces; run `k` is its leaf `k` (`WideBvh::number_leaves`).
+    tree: Option<WideBvh>,
+    runs: Vec<Run>,
+    media: Vec<u32>,
+}
 
 /// Up to [`LANES`] objects of a group, searched together.
 #[derive(Clone, Debug)]
 pub struct Run {
-    /// The index of its first object in the group.
-    start: u32,
-    /// Bit `k`: object `start + k` is a quad, tested in lane `k` of `quads`.
+    /// Its objects' indices in the group (the first `count`).
+    indices: [u32; LANES],
+    /// Bit `k`: object `indices[k]` is a quad, tested in lane `k` of `quads`.
     quads_mask: u32,
-    /// Bit `k`: object `start + k` is of another kind, asked on its own.
+    /// Bit `k`: object `indices[k]` is of another kind, asked on its own.
     others: u32,
     quads: QuadPacket,
 }
 
-impl Run {
-    /// The run of the group's objects `range`, where `quad(i)` is object `i` if that is a
-    /// quad.
-    pub fn new<'a>(range: Range<usize>, quad: impl Fn(usize) -> Option<&'a Quad>) -> Run {
-        assert!(range.len() <= LANES, "a run of {} objects", range.len());
-        let quads: [Option<&Quad>; LANES] =
-            std::array::from_fn(|k| (k < range.len()).then(|| quad(range.start + k)).flatten());
-        let quads_mask = (0..range.len()).filter(|&k| quads[k].is_some()).fold(0, |m, k| m | 1 << k);
-        let others = (0..range.len()).filter(|&k| quads[k].is_none()).fold(0, |m, k| m | 1 << k);
-        Run { start: range.start as u32, quads_mask, others, quads: QuadPacket::new(quads) }
+/// A surface as the search's own tree sees it: its index in the group, its box.
+struct Surface {
+    index: u32,
+    bounds: Aabb,
+    centroid: Vec3,
+}
+
+impl Bounded for Surface {
+    fn bounds(&self) -> Aabb {
+        self.bounds
     }
 
+    fn centroid(&self) -> Vec3 {
+        self.centroid
+    }
+}
+
+impl Runs {
+    /// The search over `items`, a group's objects in its order: through `tree` (built over all
+    /// of them, in that order) if there is one, or, if some of them are media, a tree of the
+    /// other objects' boxes built here; without a tree, four objects in a row.
+    pub fn new(items: &[Item], tree: Option<WideBvh>) -> Runs {
+        let media: Vec<u32> =
+            (0..items.len() as u32).filter(|&i| matches!(items[i as usize].kind, Kind::Medium)).collect();
+        let mut surfaces: Vec<Surface> = (0..items.len() as u32)
+            .filter(|&i| !matches!(items[i as usize].kind, Kind::Medium))
+            .map(|index| Surface {
+                index,
+                bounds: items[index as usize].bounds,
+                centroid: items[index as usize].centroid,
+            })
+            .collect();
+        let mut tree = match tree {
+            Some(_) if !media.is_empty() && !surfaces.is_empty() => {
+                let binary = Bvh::build_with_leaves(&mut surfaces, LANES);
+                Some(WideBvh::collapse_plain(&binary, surfaces.len()))
+            }
+            Some(_) if !media.is_empty() => None,
+            tree => tree,
+        };
+        let ranges = match &mut tree {
+            Some(tree) => tree.number_leaves(),
+            None => (0..surfaces.len()).step_by(LANES).map(|s| s..(s + LANES).min(surfaces.len())).collect(),
+        };
+        let runs = ranges
+            .into_iter()
+            .map(|range| {
+                let chosen = &surfaces[range];
+                let indices = std::array::from_fn(|k| chosen.get(k).map_or(u32::MAX, |s| s.index));
+                let quad = |k: usize| match chosen.get(k).map(|s| &items[s.index as usize].kind) {
+                    Some(Kind::Quad(quad)) => Some(*quad),
+                    _ => None,
+                };
+                let quads: [Option<&Quad>; LANES] = std::array::from_fn(quad);
+                let mask = |of_quad: bool| (0..chosen.len()).filter(move |&k| quads[k].is_some() == of_quad);
+                let quads_mask = mask(true).fold(0, |m, k| m | 1 << k);
+                let others = mask(false).fold(0, |m, k| m | 1 << k);
+                Run { indices, quads_mask, others, quads: QuadPacket::new(quads) }
+            })
+            .collect();
+        Runs { tree, runs, media }
+    }
+
+    /// Whether its surfaces are searched through a tree.
+    pub fn has_tree(&self) -> bool {
+        self.tree.is_some()
+    }
+
+    /// Visits every run the ray may find a hit in before `closest.t` (a tree's leaves nearest
+    /// first, pruned by the closest hit so far); `visit` offers the run's hits to `closest`.
+    #[inline(always)]
+    pub fn search(&self, ray: &Ray, closest: &mut Closest, mut visit: impl FnMut(&Run, &mut Closest)) {
+        match &self.tree {
+            None => self.runs.iter().for_each(|run| visit(run, closest)),
+            Some(tree) => tree.traverse(ray, closest, |leaf, closest| visit(&self.runs[leaf.start], closest)),
+        }
+    }
+
+    /// The indices of the group's media.
+    pub fn media(&self) -> impl Iterator<Item = usize> + '_ {
+        self.media.iter().map(|&i| i as usize)
+    }
+}
+
+impl Run {
     /// Offers its quads' nearest hit below `closest`'s bound to `closest`; if it became the
     /// closest, its `(α, β)`.
     #[inline(always)]
@@ -48,7 +154,7 @@ impl Run {
         }
         let hits = self.quads.intersect(ray, closest.bound());
         let k = hits.nearest()?;
-        let i = self.start + k as u32;
+        let i = self.indices[k];
         // Lanes by array index: a vector's own `[k]` is a jump table.
         closest.offer(hits.t.to_array()[k], i);
         (closest.index == i).then(|| (hits.alpha.to_array()[k], hits.beta.to_array()[k]))
@@ -63,44 +169,13 @@ impl Run {
     /// The group indices of its objects that are not quads.
     #[inline(always)]
     pub fn others(&self) -> impl Iterator<Item = usize> + use<> {
-        let start = self.start as usize;
-        lanes(self.others).map(move |k| start + k)
-    }
-}
-
-/// The lanes whose bits are set in `mask`, lowest first.
-#[inline(always)]
-fn lanes(mut mask: u32) -> impl Iterator<Item = usize> {
-    std::iter::from_fn(move || {
-        (mask != 0).then(|| {
-            let k = mask.trailing_zeros() as usize;
-            mask &= mask - 1;
-            k
+        let (indices, mut mask) = (self.indices, self.others);
+        std::iter::from_fn(move || {
+            (mask != 0).then(|| {
+                let k = mask.trailing_zeros() as usize;
+                mask &= mask - 1;
+                indices[k] as usize
+            })
         })
-    })
-}
-
-/// Up to four objects' indices kept to be asked later (a group's media, asked once the nearest
-/// surface bounds how far they must look); a fifth is asked at once.
-#[derive(Default)]
-pub struct Deferred {
-    indices: [u32; 4],
-    len: usize,
-}
-
-impl Deferred {
-    /// Keeps `i` for later; `false` when full.
-    pub fn defer(&mut self, i: usize) -> bool {
-        let kept = self.len < self.indices.len();
-        if kept {
-            self.indices[self.len] = i as u32;
-            self.len += 1;
-        }
-        kept
-    }
-
-    /// Calls `each` with every kept index, in the order kept.
-    pub fn each(&self, mut each: impl FnMut(usize)) {
-        self.indices[..self.len].iter().for_each(|&i| each(i as usize));
     }
 }
