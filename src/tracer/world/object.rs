@@ -20,7 +20,7 @@ use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::world::mesh::Mesh;
 pub use crate::tracer::world::probe::Probe;
-use crate::tracer::world::runs::{Item, Kind, Runs};
+use crate::tracer::world::runs::{Best, Item, Kind, Runs};
 use std::sync::Arc;
 
 /// One object of a scene or of a group.
@@ -180,15 +180,6 @@ pub struct Group {
     uv: bool,
 }
 
-/// Which object holds the closest hit so far, and what its record will be made from.
-enum Best {
-    Nothing,
-    /// A quad: the hit's `(α, β)` (its distance is the closest one).
-    Quad(Real, Real),
-    /// Any other object: its whole record.
-    Other(Hit),
-}
-
 impl Group {
     /// A group of `objects`, ordered by a tree if there are at least [`TREE_MIN_OBJECTS`] of
     /// them, and searched through it if there are more than [`FLAT_MAX_OBJECTS`].
@@ -214,6 +205,7 @@ impl Group {
                 centroid: object.centroid(),
                 kind: match object {
                     Object::Quad(quad) => Kind::Quad(quad),
+                    Object::Sphere(_) => Kind::Sphere,
                     Object::Medium(_) => Kind::Medium,
                     _ => Kind::Other,
                 },
@@ -270,6 +262,13 @@ impl Group {
             if let Some((alpha, beta)) = run.offer_quads(ray, closest) {
                 best = Best::Quad(alpha, beta);
             }
+            for i in run.spheres() {
+                let Object::Sphere(sphere) = &self.objects[i] else { continue };
+                if let Some(t) = sphere.intersect(ray, closest.bound()) {
+                    closest.offer(t, i as u32);
+                    best = if closest.index == i as u32 { Best::Sphere } else { best };
+                }
+            }
             run.others().for_each(|i| self.offer(i, ray, probe, closest, &mut best));
         });
         // Media last, when the nearest surface bounds how far they must look ([`Medium::hit`]
@@ -277,6 +276,10 @@ impl Group {
         self.runs.media().for_each(|i| self.offer(i, ray, probe, &mut closest, &mut best));
         match (best, self.objects.get(closest.index as usize)?) {
             (Best::Quad(alpha, beta), Object::Quad(quad)) => Some(quad.hit_at(ray, closest.t, alpha, beta)),
+            (Best::Sphere, Object::Sphere(sphere)) => {
+                let hit = sphere.hit_at(ray, closest.t);
+                Some(if self.uv { sphere.with_uv(hit) } else { hit })
+            }
             (Best::Other(hit), object) => Some(if self.uv { object.with_uv(hit, probe) } else { hit }),
             _ => None,
         }
@@ -304,7 +307,7 @@ impl Group {
         let mut found = false;
         let mut closest = Closest::none(t_max);
         self.runs.search(ray, &mut closest, |run, closest| {
-            if run.quads_block(ray, t_max) || run.others().any(blocks) {
+            if run.quads_block(ray, t_max) || run.spheres().chain(run.others()).any(blocks) {
                 found = true;
                 closest.rule_out_rest();
             }

@@ -12,7 +12,7 @@
 
 use crate::tracer::accel::bvh::Bvh;
 use crate::tracer::accel::wide::WideBvh;
-use crate::tracer::geometry::hit::Closest;
+use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::quads::{LANES, QuadPacket};
 use crate::tracer::math::aabb::{Aabb, Bounded};
@@ -33,10 +33,26 @@ pub struct Item<'a> {
 pub enum Kind<'a> {
     /// A quad: tested in a packet's lane.
     Quad(&'a Quad),
+    /// A sphere: tested on its own, its hit's record made only if it is the closest.
+    Sphere,
     /// A medium: asked last.
     Medium,
     /// Anything else: asked on its own.
     Other,
+}
+
+/// Which of a group's objects holds the closest hit so far, and what its record will be made
+/// from: only the closest hit's record is made, at the end of the search.
+#[derive(Clone, Copy)]
+pub enum Best {
+    /// No hit yet.
+    Nothing,
+    /// A quad: the hit's `(α, β)` (its distance is the closest one).
+    Quad(Real, Real),
+    /// A sphere: the distance is all its record needs.
+    Sphere,
+    /// Any other object: its whole record.
+    Other(Hit),
 }
 
 /// A group's search: its surfaces' runs (through a tree, or one after another) and its media.
@@ -55,6 +71,8 @@ pub struct Run {
     indices: [u32; LANES],
     /// Bit `k`: object `indices[k]` is a quad, tested in lane `k` of `quads`.
     quads_mask: u32,
+    /// Bit `k`: object `indices[k]` is a sphere.
+    spheres: u32,
     /// Bit `k`: object `indices[k]` is of another kind, asked on its own.
     others: u32,
     quads: QuadPacket,
@@ -114,10 +132,15 @@ impl Runs {
                     _ => None,
                 };
                 let quads: [Option<&Quad>; LANES] = std::array::from_fn(quad);
-                let mask = |of_quad: bool| (0..chosen.len()).filter(move |&k| quads[k].is_some() == of_quad);
-                let quads_mask = mask(true).fold(0, |m, k| m | 1 << k);
-                let others = mask(false).fold(0, |m, k| m | 1 << k);
-                Run { indices, quads_mask, others, quads: QuadPacket::new(quads) }
+                let kinds = |of: fn(&Kind) -> bool| {
+                    (0..chosen.len())
+                        .filter(|&k| of(&items[chosen[k].index as usize].kind))
+                        .fold(0, |m, k| m | 1 << k)
+                };
+                let quads_mask = kinds(|kind| matches!(kind, Kind::Quad(_)));
+                let spheres = kinds(|kind| matches!(kind, Kind::Sphere));
+                let others = kinds(|kind| matches!(kind, Kind::Other));
+                Run { indices, quads_mask, spheres, others, quads: QuadPacket::new(quads) }
             })
             .collect();
         Runs { tree, runs, media }
@@ -166,16 +189,27 @@ impl Run {
         self.quads_mask != 0 && self.quads.intersect(ray, t_max).mask != 0
     }
 
-    /// The group indices of its objects that are not quads.
+    /// The group indices of its spheres.
+    #[inline(always)]
+    pub fn spheres(&self) -> impl Iterator<Item = usize> + use<> {
+        bits(self.indices, self.spheres)
+    }
+
+    /// The group indices of its objects of other kinds.
     #[inline(always)]
     pub fn others(&self) -> impl Iterator<Item = usize> + use<> {
-        let (indices, mut mask) = (self.indices, self.others);
-        std::iter::from_fn(move || {
-            (mask != 0).then(|| {
-                let k = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                indices[k] as usize
-            })
-        })
+        bits(self.indices, self.others)
     }
+}
+
+/// `indices[k]` for every bit `k` set in `mask`, lowest first.
+#[inline(always)]
+fn bits(indices: [u32; LANES], mut mask: u32) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (mask != 0).then(|| {
+            let k = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            indices[k] as usize
+        })
+    })
 }
