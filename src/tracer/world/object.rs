@@ -78,7 +78,8 @@ impl Object {
             Object::Quad(quad) => quad.intersect(ray, t_max).is_some(),
             Object::Mesh(mesh, _) => mesh.occludes(ray, t_max),
             Object::Instance(instance) => {
-                instance.group.occludes(&instance.transform.inverse_ray(ray), t_max, probe)
+                let local = instance.transform.inverse_ray(ray);
+                instance.group.may_hit(&local, t_max) && instance.group.occludes(&local, t_max, probe)
             }
             Object::Medium(medium) => medium.hit(ray, t_max, probe).is_some(),
         }
@@ -161,8 +162,9 @@ impl Bounded for Object {
 /// as their tree's leaves, the order in which ties go to the lower index.
 pub const TREE_MIN_OBJECTS: usize = 6;
 
-/// Groups of at most this many objects are searched without their tree, run after run, once
-/// the ray enters their box: a tree's traversal costs more than it saves there.
+/// Groups of at most this many objects are searched without their tree, run after run (an
+/// instance's only once the ray enters its box): a tree's traversal costs more than it saves
+/// there.
 const FLAT_MAX_OBJECTS: usize = 8;
 
 /// Objects per leaf of a group's four-wide tree: one run each.
@@ -245,6 +247,13 @@ impl Group {
         self.runs.has_tree()
     }
 
+    /// Whether the search may find a hit along `ray` before `t_max`: a group without a tree
+    /// tests its box (a tree's root does the same), branch-free ([`Aabb::enters`]).
+    #[inline(always)]
+    fn may_hit(&self, ray: &Ray, t_max: Real) -> bool {
+        self.has_tree() || self.bounds.enters(ray, t_max)
+    }
+
     /// `(moves, media)`: whether any object moves, or is a medium.
     pub fn needs(&self) -> (bool, bool) {
         self.objects.iter().map(Object::needs).fold((false, false), |a, b| (a.0 | b.0, a.1 | b.1))
@@ -255,9 +264,6 @@ impl Group {
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
         let mut closest = Closest::none(t_max);
         let mut best = Best::Nothing;
-        if !self.has_tree() && !self.bounds.enters(ray, t_max) {
-            return None;
-        }
         self.runs.search(ray, &mut closest, |run, closest| {
             if let Some((alpha, beta)) = run.offer_quads(ray, closest) {
                 best = Best::Quad(alpha, beta);
@@ -300,9 +306,6 @@ impl Group {
     /// object found (pbrt's `IntersectP`, Embree's `rtcOccluded`).
     #[inline]
     pub fn occludes(&self, ray: &Ray, t_max: Real, probe: &Probe) -> bool {
-        if !self.has_tree() && !self.bounds.enters(ray, t_max) {
-            return false;
-        }
         let blocks = |i: usize| self.objects[i].occludes(ray, t_max, probe);
         let mut found = false;
         let mut closest = Closest::none(t_max);
@@ -362,6 +365,9 @@ impl Instance {
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
         let local = self.transform.inverse_ray(ray);
+        if !self.group.may_hit(&local, t_max) {
+            return None;
+        }
         let mut hit = self.group.hit(&local, t_max, probe)?;
         hit.point = self.transform.point(hit.point);
         hit.normal = self.transform.vector(hit.normal);
