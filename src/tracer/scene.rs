@@ -151,7 +151,8 @@ impl Scene {
             } else {
                 Casters::new(&objects, &materials, lights.bounds)
             };
-            let objects = Group::new(objects);
+            let mut objects = Group::new(objects);
+            objects.keep_uv_for(&|m| materials[m as usize].reads_uv(&textures));
             let (motion, media) = objects.needs();
             let accel = if objects.has_tree() { Accel::Wide } else { Accel::Flat };
             return Scene {

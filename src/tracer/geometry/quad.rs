@@ -64,6 +64,11 @@ impl Quad {
         self.normal
     }
 
+    /// `(u × v) / |u × v|²`, the vector that turns a point of the plane into `(α, β)`.
+    pub fn plane_coordinates(&self) -> Vec3 {
+        self.w
+    }
+
     /// Its area.
     pub fn area(&self) -> Real {
         self.u.cross(self.v).length()

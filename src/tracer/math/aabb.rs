@@ -3,6 +3,7 @@
 //! Every shape reports a box that contains every hit point its own test can compute (boxes
 //! are padded by the test's rounding), so a tree that skips a box never skips a hit.
 
+use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 
 /// An axis-aligned box, `min` to `max` on every axis (inverted, `min > max`, when empty).
@@ -79,6 +80,27 @@ impl Aabb {
         let far = t0.max(t1).min_element();
         let near = if near > 0.0 { near } else { 0.0 };
         let far = if far < t_max { far } else { t_max };
+        near <= far
+    }
+
+    /// Whether `ray` enters the box before `t_max`, never missing a box it grazes: the slab
+    /// test of the four-wide trees (`accel/wide.rs`), each exit distance scaled up by pbrt's
+    /// bound on the test's own rounding, `1 + 2γ₃`. A NaN distance (a ray along a face, starting
+    /// on its plane) is ignored, which only widens the box. Without a branch: which corner the
+    /// ray meets first on an axis depends on its direction, which a bounce draws at random.
+    #[inline(always)]
+    pub fn enters(&self, ray: &Ray, t_max: Real) -> bool {
+        const ROUNDING: Real = 1.0 + 2.0 * (3.0 * Real::EPSILON / 2.0) / (1.0 - 3.0 * Real::EPSILON / 2.0);
+        let inv = ray.dir.recip();
+        let (low, high) = ((self.min - ray.origin) * inv, (self.max - ray.origin) * inv);
+        let backwards = inv.cmplt(Vec3::ZERO);
+        let t_in = Vec3::select(backwards, high, low);
+        let t_out = Vec3::select(backwards, low, high) * ROUNDING;
+        // `if a > b { a } else { b }`: maxss, which keeps `b` where `a` is NaN.
+        let later = |a: Real, b: Real| if a > b { a } else { b };
+        let sooner = |a: Real, b: Real| if a < b { a } else { b };
+        let near = later(t_in.z, later(t_in.y, later(t_in.x, 0.0)));
+        let far = sooner(t_out.z, sooner(t_out.y, sooner(t_out.x, t_max)));
         near <= far
     }
 }

@@ -16,7 +16,7 @@ use rand::Rng;
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::sampling::warp::{random_unit_vector, uniform};
-use crate::tracer::shading::texture::Textures;
+use crate::tracer::shading::texture::{Texture, Textures};
 
 /// A surface's material, as in *Ray Tracing in One Weekend*.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -166,6 +166,12 @@ impl Material {
         let Material::Dielectric { ior, fresnel } = *self else { return None };
         let cos_theta = (-incoming).dot(hit.normal).min(1.0);
         hit.front_face.then(|| (reflect(incoming, hit.normal), fresnel.reflectance(cos_theta, 1.0 / ior)))
+    }
+
+    /// Whether shading reads a hit's texture coordinates `(u, v)` (an image texture does;
+    /// solid colours, the checker and the marble use the point).
+    pub fn reads_uv(&self, textures: &Textures) -> bool {
+        matches!(*self, Material::Textured { texture } if matches!(textures.textures[texture as usize], Texture::Image { .. }))
     }
 
     /// Whether the first book's render loop handles this material (no texture, no light, no

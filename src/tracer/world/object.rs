@@ -12,35 +12,16 @@ use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
+use crate::tracer::geometry::quads::LANES;
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::math::transform::Transform;
-use crate::tracer::sampling::independent::mix;
-use crate::tracer::sampling::keys::MEDIUM_KEY;
 use crate::tracer::world::mesh::Mesh;
+pub use crate::tracer::world::probe::Probe;
+use crate::tracer::world::runs::{Best, Item, Kind, Runs};
 use std::sync::Arc;
-
-/// What a search needs besides the ray: the time the camera ray sampled (for moving shapes)
-/// and the random seed media draw their scattering distances from.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Probe {
-    /// In `[0, 1)`: where in the shutter interval the path was sampled.
-    pub time: Real,
-    /// Drawn once per ray (only in scenes with media). Each medium turns it into its own
-    /// number with its own id ([`Probe::uniform`]), so what a medium draws does not depend on
-    /// the order in which a tree visits objects: `--accel` changes no pixel.
-    pub medium_seed: u64,
-}
-
-impl Probe {
-    /// A number in `(0, 1]` for medium `id`, independent of every other medium's.
-    pub fn uniform(&self, id: u32) -> Real {
-        let bits = mix(self.medium_seed ^ u64::from(id).wrapping_mul(MEDIUM_KEY));
-        ((bits >> 40) + 1) as Real * (1.0 / (1u64 << 24) as Real)
-    }
-}
 
 /// One object of a scene or of a group.
 #[derive(Clone, Debug)]
@@ -97,7 +78,8 @@ impl Object {
             Object::Quad(quad) => quad.intersect(ray, t_max).is_some(),
             Object::Mesh(mesh, _) => mesh.occludes(ray, t_max),
             Object::Instance(instance) => {
-                instance.group.occludes(&instance.transform.inverse_ray(ray), t_max, probe)
+                let local = instance.transform.inverse_ray(ray);
+                instance.group.may_hit(&local, t_max) && instance.group.occludes(&local, t_max, probe)
             }
             Object::Medium(medium) => medium.hit(ray, t_max, probe).is_some(),
         }
@@ -169,50 +151,90 @@ impl Bounded for Object {
 // ---- Groups:
 // A group: objects searched together, through a four-wide tree of their boxes once there are
 // enough of them (the same trees `accel` builds for spheres). A scene's world is a group; so
-// is what an instance places and what bounds a medium.
+// is what an instance places and what bounds a medium. Its objects are searched in runs of up
+// to four, a run's quads four at once (`runs.rs`), and only the closest hit's record is made,
+// at the end.
 //
 // Ties in distance go to the lower index ([`Closest`]), so a group searched through its tree
 // finds exactly what testing its objects in order finds (`--accel flat`).
 
-/// Groups of fewer objects than this test them all: a tree costs more than it saves.
+/// Groups of fewer objects than this keep the order they were given; larger ones are ordered
+/// as their tree's leaves, the order in which ties go to the lower index.
 pub const TREE_MIN_OBJECTS: usize = 6;
 
-/// Objects per leaf of a group's four-wide tree.
-const LEAF: usize = 4;
+/// Groups of at most this many objects are searched without their tree, run after run (an
+/// instance's only once the ray enters its box): a tree's traversal costs more than it saves
+/// there.
+const FLAT_MAX_OBJECTS: usize = 8;
 
-/// Objects, and the tree over them (none for small groups, or when asked for none).
+/// Objects per leaf of a group's four-wide tree: one run each.
+const LEAF: usize = LANES;
+
+/// Objects, and how they are searched: a tree over them (none for small groups, or when
+/// asked for none), the runs of its leaves, and the media apart (`runs.rs`).
 #[derive(Clone, Debug)]
 pub struct Group {
     objects: Vec<Object>,
-    tree: Option<WideBvh>,
+    runs: Runs,
     bounds: Aabb,
-    /// Whether a medium is among `objects` (then asked after the surfaces).
-    media: bool,
+    /// Whether the closest hit gets its sphere's texture coordinates (an arc cosine and an
+    /// arc tangent): only where a material reads them ([`Group::keep_uv_for`]).
+    uv: bool,
 }
 
 impl Group {
-    /// A group of `objects`, with a tree if there are at least [`TREE_MIN_OBJECTS`] of them
-    /// (which reorders them).
+    /// A group of `objects`, ordered by a tree if there are at least [`TREE_MIN_OBJECTS`] of
+    /// them, and searched through it if there are more than [`FLAT_MAX_OBJECTS`].
     pub fn new(objects: Vec<Object>) -> Group {
         let tree = objects.len() >= TREE_MIN_OBJECTS;
         Group::with_tree(objects, tree)
     }
 
-    /// A group of `objects`, searched through a tree or, with `tree` false, one by one in
-    /// their current order.
+    /// A group of `objects`, ordered by a tree and searched through it (if there are more than
+    /// [`FLAT_MAX_OBJECTS`]) or, with `tree` false, searched one run after another in their
+    /// current order.
     pub fn with_tree(mut objects: Vec<Object>, tree: bool) -> Group {
         let bounds = objects.iter().map(Bounded::bounds).fold(Aabb::EMPTY, Aabb::union);
-        let tree = (tree && !objects.is_empty()).then(|| {
+        let mut tree = (tree && !objects.is_empty()).then(|| {
             let binary = Bvh::build_with_leaves(&mut objects, LEAF);
             WideBvh::collapse_plain(&binary, objects.len())
         });
-        let media = objects.iter().any(|o| matches!(o, Object::Medium(_)));
-        Group { objects, tree, bounds, media }
+        tree = tree.filter(|_| objects.len() > FLAT_MAX_OBJECTS);
+        let items: Vec<Item> = objects
+            .iter()
+            .map(|object| Item {
+                bounds: object.bounds(),
+                centroid: object.centroid(),
+                kind: match object {
+                    Object::Quad(quad) => Kind::Quad(quad),
+                    Object::Sphere(_) => Kind::Sphere,
+                    Object::Medium(_) => Kind::Medium,
+                    _ => Kind::Other,
+                },
+            })
+            .collect();
+        let runs = Runs::new(&items, tree);
+        Group { objects, runs, bounds, uv: true }
     }
 
     /// The same objects searched the other way (for `--accel` comparisons).
     pub fn rebuilt(self, tree: bool) -> Group {
-        Group::with_tree(self.objects, tree)
+        Group { uv: self.uv, ..Group::with_tree(self.objects, tree) }
+    }
+
+    /// Makes texture coordinates only for the spheres whose material `reads_uv`, here and in
+    /// the groups inside (a medium's boundary never: its hits are not shaded).
+    pub fn keep_uv_for(&mut self, reads_uv: &dyn Fn(u32) -> bool) {
+        self.uv = false;
+        for object in &mut self.objects {
+            match object {
+                Object::Sphere(sphere) => self.uv |= reads_uv(sphere.material),
+                Object::Moving(moving) => self.uv |= reads_uv(moving.material),
+                Object::Instance(instance) => instance.group.keep_uv_for(reads_uv),
+                Object::Medium(medium) => medium.boundary.keep_uv_for(&|_| false),
+                Object::Quad(_) | Object::Mesh(..) => {}
+            }
+        }
     }
 
     /// The objects, in the order the tree stored them.
@@ -222,7 +244,14 @@ impl Group {
 
     /// Whether a tree is searched.
     pub fn has_tree(&self) -> bool {
-        self.tree.is_some()
+        self.runs.has_tree()
+    }
+
+    /// Whether the search may find a hit along `ray` before `t_max`: a group without a tree
+    /// tests its box (a tree's root does the same), branch-free ([`Aabb::enters`]).
+    #[inline(always)]
+    fn may_hit(&self, ray: &Ray, t_max: Real) -> bool {
+        self.has_tree() || self.bounds.enters(ray, t_max)
     }
 
     /// `(moves, media)`: whether any object moves, or is a medium.
@@ -234,73 +263,59 @@ impl Group {
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
         let mut closest = Closest::none(t_max);
-        let mut best = None;
-        let mut offer = |i: usize, closest: &mut Closest| {
-            if let Some(hit) = self.objects[i].hit(ray, closest.bound(), probe) {
-                closest.offer(hit.t, i as u32);
-                if closest.index == i as u32 {
-                    best = Some((hit, i));
+        let mut best = Best::Nothing;
+        self.runs.search(ray, &mut closest, |run, closest| {
+            if let Some((alpha, beta)) = run.offer_quads(ray, closest) {
+                best = Best::Quad(alpha, beta);
+            }
+            for i in run.spheres() {
+                let Object::Sphere(sphere) = &self.objects[i] else { continue };
+                if let Some(t) = sphere.intersect(ray, closest.bound()) {
+                    closest.offer(t, i as u32);
+                    best = if closest.index == i as u32 { Best::Sphere } else { best };
                 }
             }
-        };
-        // Media are asked last, when the nearest surface bounds how far they must look
-        // ([`Medium::hit`] then rarely searches its boundary).
-        let mut media = Deferred::default();
-        let mut visit = |i: usize, closest: &mut Closest| {
-            if !(self.media && matches!(self.objects[i], Object::Medium(_)) && media.defer(i)) {
-                offer(i, closest)
+            run.others().for_each(|i| self.offer(i, ray, probe, closest, &mut best));
+        });
+        // Media last, when the nearest surface bounds how far they must look ([`Medium::hit`]
+        // then rarely searches its boundary).
+        self.runs.media().for_each(|i| self.offer(i, ray, probe, &mut closest, &mut best));
+        match (best, self.objects.get(closest.index as usize)?) {
+            (Best::Quad(alpha, beta), Object::Quad(quad)) => Some(quad.hit_at(ray, closest.t, alpha, beta)),
+            (Best::Sphere, Object::Sphere(sphere)) => {
+                let hit = sphere.hit_at(ray, closest.t);
+                Some(if self.uv { sphere.with_uv(hit) } else { hit })
             }
-        };
-        match &self.tree {
-            None => (0..self.objects.len()).for_each(|i| visit(i, &mut closest)),
-            Some(tree) => {
-                tree.traverse(ray, &mut closest, |leaf, closest| leaf.for_each(|i| visit(i, closest)))
+            (Best::Other(hit), object) => Some(if self.uv { object.with_uv(hit, probe) } else { hit }),
+            _ => None,
+        }
+    }
+
+    /// Asks object `i` alone for its hit below the closest so far, and keeps it if closer.
+    #[inline(always)]
+    fn offer(&self, i: usize, ray: &Ray, probe: &Probe, closest: &mut Closest, best: &mut Best) {
+        if let Some(hit) = self.objects[i].hit(ray, closest.bound(), probe) {
+            closest.offer(hit.t, i as u32);
+            if closest.index == i as u32 {
+                *best = Best::Other(hit);
             }
         }
-        media.each(|i| offer(i, &mut closest));
-        best.map(|(hit, i)| self.objects[i].with_uv(hit, probe))
     }
 
     /// Whether anything in the group is hit in `(0, t_max)`: the search ends at the first
     /// object found (pbrt's `IntersectP`, Embree's `rtcOccluded`).
     #[inline]
     pub fn occludes(&self, ray: &Ray, t_max: Real, probe: &Probe) -> bool {
-        let Some(tree) = &self.tree else {
-            return self.objects.iter().any(|o| o.occludes(ray, t_max, probe));
-        };
-        let mut closest = Closest::none(t_max);
+        let blocks = |i: usize| self.objects[i].occludes(ray, t_max, probe);
         let mut found = false;
-        tree.traverse(ray, &mut closest, |leaf, closest| {
-            if leaf.into_iter().any(|i| self.objects[i].occludes(ray, t_max, probe)) {
+        let mut closest = Closest::none(t_max);
+        self.runs.search(ray, &mut closest, |run, closest| {
+            if run.quads_block(ray, t_max) || run.spheres().chain(run.others()).any(blocks) {
                 found = true;
                 closest.rule_out_rest();
             }
         });
-        found
-    }
-}
-
-/// Up to four objects' indices kept to be asked later; a fifth is asked at once.
-#[derive(Default)]
-struct Deferred {
-    indices: [u32; 4],
-    len: usize,
-}
-
-impl Deferred {
-    /// Keeps `i` for later; `false` when full.
-    fn defer(&mut self, i: usize) -> bool {
-        let kept = self.len < self.indices.len();
-        if kept {
-            self.indices[self.len] = i as u32;
-            self.len += 1;
-        }
-        kept
-    }
-
-    /// Calls `each` with every kept index, in the order kept.
-    fn each(&self, mut each: impl FnMut(usize)) {
-        self.indices[..self.len].iter().for_each(|&i| each(i as usize));
+        found || self.runs.media().any(blocks)
     }
 }
 
@@ -309,7 +324,7 @@ impl Bounded for Group {
         self.bounds
     }
 
-    fn centroid(&self) -> crate::tracer::math::real::Vec3 {
+    fn centroid(&self) -> Vec3 {
         0.5 * (self.bounds.min + self.bounds.max)
     }
 }
@@ -350,6 +365,9 @@ impl Instance {
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
         let local = self.transform.inverse_ray(ray);
+        if !self.group.may_hit(&local, t_max) {
+            return None;
+        }
         let mut hit = self.group.hit(&local, t_max, probe)?;
         hit.point = self.transform.point(hit.point);
         hit.normal = self.transform.vector(hit.normal);
