@@ -17,6 +17,13 @@
 //! image is every pass's samples together, each an unbiased estimate whatever guide drew it.
 //! A scene that takes no guide (no lights: `final`) is rendered as without guiding, in one
 //! pass, and costs nothing more.
+//!
+//! A shard (`render --shard`) learns from every pixel, as the one-process render does: each
+//! shard runs the learning passes over the whole image (their pixels thrown away) and then
+//! renders its own tiles' samples of the same pass with the guide the pass started with,
+//! learning nothing. So every shard holds the one-process guides and pixels, and merged
+//! parts equal the one-process image (`tests/shard.rs`), at the price of the learning passes
+//! run in every shard.
 
 use std::sync::Arc;
 
@@ -27,6 +34,7 @@ use crate::tracer::guiding::guide::Guide;
 use crate::tracer::guiding::learning::Learning;
 use crate::tracer::guiding::{Guiding, bounds, takes};
 use crate::tracer::render::TileOutput;
+use crate::tracer::tile::Shard;
 
 /// Renders `frame` guided by `guiding`, each pass by `run_pass` (a scheduler's render);
 /// returns the image (the last pass's tiles carry every pixel's mean over all passes) and
@@ -53,8 +61,17 @@ pub fn render_guided(
                 Some(guide) => Learning::after(guide, spp),
             })
         });
+        let mut learns_here = learning.clone();
+        if frame.shard() != Shard::WHOLE && learning.is_some() {
+            let whole = Pass { samples: samples.clone(), sums: Sums::default(), counts: None };
+            let job = job.guided(guide.clone(), learning.clone());
+            let learn = Arc::new(frame.as_ref().clone().sharded(Shard::WHOLE).with_job(job).with_pass(whole));
+            // Their rays were cast here, their samples are other shards' pixels.
+            tiles.extend(run_pass(&learn).into_iter().map(|t| TileOutput { samples: 0, ..t }));
+            learns_here = None;
+        }
         let pass = Pass { samples: samples.clone(), sums: Arc::clone(&sums), counts: None };
-        let guided = job.guided(guide.clone(), learning.clone());
+        let guided = job.guided(guide.clone(), learns_here);
         let pass_frame = Arc::new(frame.as_ref().clone().with_job(guided).with_pass(pass));
         tiles.append(&mut last);
         last = run_pass(&pass_frame);
