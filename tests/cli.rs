@@ -121,6 +121,11 @@ fn bad_flags_exit_2_with_one_line() {
     r(&["--target-error", "0.1", "--spp", "8"], "--spp");
     r(&["--min-spp", "4"], "--target-error");
     r(&["--target-error", "0.1", "--min-spp", "64", "--max-spp", "8"], "--min-spp 64 is above --max-spp 8");
+    r(&["--guiding", "on", "--light-sampling", "bdpt"], "use mis or bsdf");
+    r(&["--guiding", "on", "--light-sampling", "mixture"], "use mis or bsdf");
+    r(&["--guiding", "on", "--target-error", "0.1"], "use one or the other");
+    r(&["--guide-pilot", "4"], "--guiding on");
+    r(&["--guiding", "maybe"], "maybe");
     assert_rejected(&dir, &["scene", "nosuch"], "unknown scene");
     assert_rejected(&dir, &["paint"], "paint");
     assert_rejected(&dir, &["bench", "--threads", "1,0"], "'0' is not a count of at least 1");

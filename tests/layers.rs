@@ -31,7 +31,7 @@ const LAYERS: &[(&str, u32)] = &[
 /// rooms before it, never one after it.
 const TRACER_ROOMS: &[&str] = &[
     "math", "sampling", "geometry", "shading", "accel", "world", "lights", "camera", "scene", "lighting",
-    "splats", "bidir", "tile", "render",
+    "guiding", "splats", "bidir", "tile", "render",
 ];
 
 /// The only modules of the command line that the viewer may reach, directly or through them:

@@ -74,6 +74,17 @@ fn merged_parts_equal_the_one_process_render_for_1_3_and_7_shards() {
 }
 
 #[test]
+fn guided_parts_merge_into_the_one_process_image() {
+    // Each shard learns its guides from every pixel, as the one-process render does, and
+    // renders its own pixels with them.
+    let modes = ["serial", "interleaved", "pool", "steal"];
+    let dir = scratch("merge-guided");
+    let guided = ["--spp", "8", "--guiding", "on", "--guide-pilot", "4"];
+    let (whole, merged) = whole_and_merged_with(&dir, "cornell", 3, "8", &modes, &guided);
+    assert!(whole == merged, "3 guided shards: merged image differs");
+}
+
+#[test]
 fn adaptive_parts_merge_into_the_one_process_image() {
     // A pixel's sample count reads its neighbours' pilots; a shard renders the pilots of the
     // pixels next to its tiles too, so each part holds the one-process pixels. Small tiles,

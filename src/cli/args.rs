@@ -111,6 +111,17 @@ pub struct ImageArgs {
     /// against the bounce (mis: multiple importance sampling). All give the same mean image.
     #[arg(long, value_enum, default_value_t = LightSampling::Mis)]
     pub light_sampling: LightSampling,
+    /// Path guiding: passes of 1, 2, 4, … samples per pixel (up to --guide-pilot) each learn
+    /// where light arrives at every place of the scene (an SD-tree), and the next pass draws
+    /// half its diffuse bounces from what was learnt, weighed against the material's bounce
+    /// (one-sample MIS); every pass's samples count. Unbiased; for scenes lit by light that
+    /// bounces. A scene without lights renders as without it.
+    #[arg(long, value_enum, default_value_t = Switch::Off)]
+    pub guiding: Switch,
+    /// With --guiding on: the learning passes' samples per pixel together, rounded down to a
+    /// power of two [default: a quarter of --spp].
+    #[arg(long, value_name = "SPP", value_parser = clap::value_parser!(u32).range(1..=65536))]
+    pub guide_pilot: Option<u32>,
     /// Where a pixel may see a light: extra points per sample for the light it sees directly
     /// (the light's edges then converge with the rest of the image); 0 for none.
     #[arg(long, default_value_t = EDGE_SPOTS, value_parser = clap::value_parser!(u32).range(0..=1024))]
@@ -122,6 +133,16 @@ pub struct ImageArgs {
     /// 64, else the 4-wide tree), or one method for comparisons; all find the same hits.
     #[arg(long, value_enum, default_value_t = AccelChoice::Auto)]
     pub accel: AccelChoice,
+}
+
+/// A setting that is off or on (`--guiding on`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum Switch {
+    /// Off.
+    #[default]
+    Off,
+    /// On.
+    On,
 }
 
 /// Who renders, and with which random numbers (shared by `render` and `view`).

@@ -1,14 +1,15 @@
 //! **The light transport and the sampling a render asks for**, as types, chosen in one place.
 //!
-//! The flags `--light-sampling`, `--roulette`, `--spp`, `--target-error`, `--min-spp` and
-//! `--max-spp` say two things: how a sample's light is found (an [`Integrator`]) and how many
+//! The flags `--light-sampling`, `--roulette`, `--guiding`, `--guide-pilot`, `--spp`,
+//! `--target-error`, `--min-spp` and `--max-spp` say two things: how a sample's light is found (an [`Integrator`]) and how many
 //! samples a pixel takes ([`Sampling`]). [`Transport::new`] is the one constructor the command
 //! line and the viewer both call; every combination that is refused is refused in this file
 //! (flags in `refusal`, a scene in [`Integrator::admits`]), one line each, and what it admits is written into the tracer's flat
 //! [`RenderSettings`] by [`Transport::apply`], so no other file asks again.
 
-use crate::cli::args::ImageArgs;
+use crate::cli::args::{ImageArgs, Switch};
 use crate::error::Error;
+use crate::tracer::guiding::Guiding;
 use crate::tracer::lights::LightSampling;
 use crate::tracer::math::real::{Real, to_f64};
 use crate::tracer::render::{Adaptive, RenderSettings};
@@ -19,12 +20,15 @@ use crate::tracer::scene::Scene;
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Integrator {
     /// A path from the camera, finding the lights by `light_sampling` (`bsdf`, `mixture` or
-    /// `mis`), ended early by Russian roulette if `roulette`.
+    /// `mis`), ended early by Russian roulette if `roulette`, its diffuse bounces guided by
+    /// what earlier passes learnt if `guiding`.
     Path {
         /// How the path's hits aim at the lights.
         light_sampling: LightSampling,
         /// Russian roulette after four rays.
         roulette: bool,
+        /// Path guiding (`--guiding on`).
+        guiding: Option<Guiding>,
     },
     /// A path from the camera and one from a light, joined at every pair of vertices
     /// (`--light-sampling bdpt`): every sample takes its light path, none is ended by roulette.
@@ -36,7 +40,9 @@ impl Integrator {
     pub fn of(settings: &RenderSettings) -> Integrator {
         match settings.light_sampling {
             LightSampling::Bdpt => Integrator::Bidir,
-            light_sampling => Integrator::Path { light_sampling, roulette: settings.roulette },
+            light_sampling => {
+                Integrator::Path { light_sampling, roulette: settings.roulette, guiding: settings.guiding }
+            }
         }
     }
 
@@ -116,9 +122,11 @@ pub struct Transport {
 impl Transport {
     /// What the flags ask for, for `renderer`, or the one line that refuses it.
     pub fn new(args: &ImageArgs, renderer: Renderer) -> Result<Transport, Error> {
+        let guiding = (args.guiding == Switch::On)
+            .then(|| args.guide_pilot.map_or_else(|| Guiding::for_spp(args.spp), |pilot| Guiding { pilot }));
         let integrator = match args.light_sampling {
             LightSampling::Bdpt => Integrator::Bidir,
-            light_sampling => Integrator::Path { light_sampling, roulette: args.roulette },
+            light_sampling => Integrator::Path { light_sampling, roulette: args.roulette, guiding },
         };
         let sampling = match args.target_error {
             None => Sampling::Fixed { spp: args.spp },
@@ -132,12 +140,12 @@ impl Transport {
         }
     }
 
-    /// Writes the choice into `settings`' flat fields (`light_sampling`, `roulette`, `spp`,
-    /// `adaptive`), which the tracer reads.
+    /// Writes the choice into `settings`' flat fields (`light_sampling`, `roulette`,
+    /// `guiding`, `spp`, `adaptive`), which the tracer reads.
     pub fn apply(&self, settings: &mut RenderSettings) {
-        (settings.light_sampling, settings.roulette) = match self.integrator {
-            Integrator::Path { light_sampling, roulette } => (light_sampling, roulette),
-            Integrator::Bidir => (LightSampling::Bdpt, false),
+        (settings.light_sampling, settings.roulette, settings.guiding) = match self.integrator {
+            Integrator::Path { light_sampling, roulette, guiding } => (light_sampling, roulette, guiding),
+            Integrator::Bidir => (LightSampling::Bdpt, false, None),
         };
         (settings.spp, settings.adaptive) = match self.sampling {
             Sampling::Fixed { spp } => (spp, None),
@@ -167,11 +175,45 @@ fn refusal(
     if renderer == Renderer::Viewer && adaptive {
         return Some("the viewer renders progressive passes, not adaptive sampling".into());
     }
+    if let Some(refused) = guiding_refusal(args, integrator, adaptive, renderer) {
+        return Some(refused.into());
+    }
     let bidir_refuses = if adaptive { Some("--target-error") } else { args.roulette.then_some("--roulette") };
     match (integrator, bidir_refuses) {
         (Integrator::Bidir, Some(flag)) => Some(format!(
             "--light-sampling bdpt does not take {flag}: its light paths are weighed against a fixed number of samples per pixel, and it ends no path by roulette"
         )),
+        _ => None,
+    }
+}
+
+/// The combinations `--guiding` and `--guide-pilot` are refused in, and why.
+fn guiding_refusal(
+    args: &ImageArgs,
+    integrator: Integrator,
+    adaptive: bool,
+    renderer: Renderer,
+) -> Option<&'static str> {
+    let guided = args.guiding == Switch::On;
+    if !guided {
+        return args
+            .guide_pilot
+            .is_some()
+            .then_some("--guide-pilot sets the learning passes of --guiding on");
+    }
+    match (integrator, args.light_sampling) {
+        (Integrator::Bidir, _) => Some(
+            "--guiding on draws the bounces of paths from the camera, which bdpt weighs against paths from the lights without it: use mis or bsdf",
+        ),
+        (_, LightSampling::Mixture) => Some(
+            "--guiding on and --light-sampling mixture would each draw the diffuse bounce their own way: use mis or bsdf",
+        ),
+        _ if adaptive => Some(
+            "--guiding on learns in passes over every pixel, --target-error gives each pixel its own count: use one or the other",
+        ),
+        _ if renderer == Renderer::Viewer => {
+            Some("the viewer's progressive passes learn no guide (yet): use raypool render --guiding on")
+        }
         _ => None,
     }
 }

@@ -90,6 +90,13 @@ impl Frame {
         self.job.settings.height
     }
 
+    /// The same frame rendering `job` instead (of the same size): how each pass of a guided
+    /// render gets the guide the pass before it learnt (`guided.rs`).
+    pub fn with_job(mut self, job: impl Into<Arc<RenderJob>>) -> Frame {
+        self.job = job.into();
+        self
+    }
+
     /// The same frame restricted to `shard`: only that shard's tiles are rendered (see
     /// [`Shard`]), and [`Frame::rows`] and [`Frame::tiles`] hand out only its pixels.
     pub fn sharded(mut self, shard: Shard) -> Frame {

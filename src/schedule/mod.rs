@@ -4,8 +4,8 @@
 //! the [`modes::Scheduler`] trait and the six built-in ways to share a frame's tiles among
 //! threads (serial, static blocks, interleaved rows, the two pools, stealing), and [`kept`]
 //! keeps a pool mode's pool from one render to the next; [`progressive`] refines
-//! an image pass after pass, cancellably, on any of them, and [`adaptive`] spends those passes
-//! where the image is still noisy; [`observe`] records, from inside a frame, which threads
+//! an image pass after pass, cancellably, on any of them, [`adaptive`] spends those passes
+//! where the image is still noisy, and [`guided`] learns from each pass a guide for the next; [`observe`] records, from inside a frame, which threads
 //! rendered which pixels how often; [`conformance`] is the check a student's scheduler must pass.
 //!
 //! It may use [`crate::tracer`], [`crate::files`] (a frame is assembled into an
@@ -16,6 +16,7 @@ pub mod random;
 pub mod progressive;
 pub mod frame;
 pub mod adaptive;
+pub mod guided;
 pub mod modes;
 pub mod kept;
 pub mod observe;

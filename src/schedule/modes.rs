@@ -20,6 +20,7 @@ use pool::{Discipline, ThreadPool};
 use crate::files::image::Image;
 use crate::schedule::adaptive::render_adaptive;
 use crate::schedule::frame::Frame;
+use crate::schedule::guided::render_guided;
 use crate::tracer::render::{TileOutput, TileTiming};
 use crate::tracer::splats::Splats;
 use crate::tracer::tile::{Shard, Tile};
@@ -215,15 +216,18 @@ impl Rendered {
     }
 }
 
-/// Renders `frame` with `scheduler` (adaptively, in passes, when its settings ask for it).
+/// Renders `frame` with `scheduler` (adaptively, or guided, in passes, when its settings ask
+/// for it).
 /// Once the frame is cancelled ([`Frame::with_cancel`]) the image is left empty (0 × 0).
 ///
 /// # Panics
 /// If the scheduler breaks its contract (a pixel rendered twice or never).
 pub fn render(frame: &Arc<Frame>, scheduler: &dyn Scheduler) -> Rendered {
-    let (image, tiles) = match frame.job().settings.adaptive {
-        Some(adaptive) => render_adaptive(frame, adaptive, |pass| scheduler.render(pass)),
-        None => {
+    let settings = frame.job().settings;
+    let (image, tiles) = match (settings.adaptive, settings.guiding) {
+        (Some(adaptive), _) => render_adaptive(frame, adaptive, |pass| scheduler.render(pass)),
+        (None, Some(guiding)) => render_guided(frame, guiding, |pass| scheduler.render(pass)),
+        (None, None) => {
             let tiles = scheduler.render(frame);
             if frame.is_cancelled() {
                 // A cancelled render's image is never used: not assembling it keeps a

@@ -12,6 +12,7 @@
 //! | [`camera`] | rays from pixels through a thin lens |
 //! | [`scene`] | the scene that holds them all, and the one hit search that dispatches to the chosen tree |
 //! | [`lighting`] | how a path finds the lights: a material's bounce, the mixture, multiple importance sampling, manifold samples, the lights' edges |
+//! | [`guiding`] | path guiding: where light came from, learnt pass by pass in an SD-tree, and bounces drawn from it |
 //! | [`splats`] | light that lands in another pixel than the sample that carried it, summed in fixed point so any order of tiles adds to the same bits |
 //! | [`bidir`] | bidirectional path tracing: camera and light paths joined, weighted over every strategy |
 //! | [`tile`] | how an image is cut into tiles, and tiles into shards; a tile's running pixel sums |
@@ -36,6 +37,7 @@ pub mod lights;
 pub mod camera;
 pub mod scene;
 pub mod lighting;
+pub mod guiding;
 pub mod splats;
 pub mod bidir;
 pub mod tile;

@@ -20,6 +20,10 @@ use crate::error::Error;
 use crate::tracer::bidir::connect::{Bidir, Paths, Streams};
 use crate::tracer::camera::{Camera, CameraSettings};
 use crate::tracer::geometry::hit::Hit;
+use crate::tracer::guiding::guide::Guide;
+use crate::tracer::guiding::learning::Learning;
+use crate::tracer::guiding::trail::Trail;
+use crate::tracer::guiding::{Guiding, takes};
 use crate::tracer::lighting::edges::Edges;
 use crate::tracer::lights::LightSampling;
 use crate::tracer::math::ray::Ray;
@@ -33,7 +37,7 @@ use crate::tracer::splats::Splats;
 pub use crate::tracer::tile::PixelSums;
 use crate::tracer::tile::Tile;
 use crate::tracer::world::object::Probe;
-use path::{CameraRay, trace};
+use path::{CameraRay, Guided, trace};
 
 /// Largest accepted image side, pixels (the command line and every other entry point check it).
 pub const MAX_SIDE: u32 = 16384;
@@ -86,6 +90,9 @@ pub struct RenderSettings {
     /// Extra points per sample, in the pixels that may see a light, for the light they see
     /// directly ([`Edges`]); 0 for none. [`EDGE_SPOTS`] by default.
     pub edge_spots: u32,
+    /// Path guiding, in passes that learn where light comes from (`--guiding on`); `None`
+    /// (the default) for none.
+    pub guiding: Option<Guiding>,
 }
 
 /// The edge points each sample takes where a pixel may see a light: past 16, more buy little
@@ -107,6 +114,7 @@ impl Default for RenderSettings {
             sampler: Sampler::default(),
             light_sampling: LightSampling::default(),
             edge_spots: EDGE_SPOTS,
+            guiding: None,
         }
     }
 }
@@ -177,20 +185,31 @@ pub struct RenderJob {
     pub camera: Camera,
     /// Size and sampling.
     pub settings: RenderSettings,
+    /// The guide a guided pass draws its bounces from (`guiding/`); `None` otherwise.
+    pub guide: Option<Arc<Guide>>,
+    /// What a guided pass learns into; `None` if it learns nothing.
+    pub learning: Option<Arc<Learning>>,
 }
 
 impl RenderJob {
     /// Prepares a render of `scene` with `settings`.
     pub fn new(scene: Scene, settings: RenderSettings) -> RenderJob {
         let camera = Camera::new(&scene.camera, settings.width, settings.height);
-        RenderJob { scene: Arc::new(scene), camera, settings }
+        RenderJob { scene: Arc::new(scene), camera, settings, guide: None, learning: None }
     }
 
     /// The same scene, shared, not rebuilt, seen by `camera` with `settings`: how the viewer
     /// moves the camera or renders a smaller frame without building the scene's tree again.
     pub fn with_camera(&self, camera: &CameraSettings, settings: RenderSettings) -> RenderJob {
         let scene = Arc::clone(&self.scene);
-        RenderJob { scene, camera: Camera::new(camera, settings.width, settings.height), settings }
+        let camera = Camera::new(camera, settings.width, settings.height);
+        RenderJob { scene, camera, settings, guide: None, learning: None }
+    }
+
+    /// The same job (its scene shared) as one pass of a guided render: drawing bounces from
+    /// `guide`, learning into `learning`.
+    pub fn guided(&self, guide: Option<Arc<Guide>>, learning: Option<Arc<Learning>>) -> RenderJob {
+        RenderJob { guide, learning, ..self.clone() }
     }
 }
 
@@ -281,6 +300,15 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
     let edges = Edges::new(&job.scene, &job.camera, spots);
     let light_streams = PerSample { seed: mix(job.settings.seed ^ LIGHT_PATHS_KEY) };
     let mut paths = Paths::default();
+    // A guided pass's guide and statistics, where the scene takes a guide (and the bounce is
+    // not the third book's mixture, which draws its own).
+    let guiding = WORLD
+        && bidir.is_none()
+        && job.settings.light_sampling != LightSampling::Mixture
+        && takes(&job.scene);
+    let guide = job.guide.as_deref().filter(|_| guiding);
+    let learning = job.learning.as_deref().filter(|_| guiding);
+    let mut trail = Trail::default();
     let pixels =
         (tile.y..tile.y + tile.height).flat_map(|j| (tile.x..tile.x + tile.width).map(move |i| (i, j)));
     for (k, (i, j)) in pixels.enumerate() {
@@ -309,15 +337,19 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
                     bidir.sample(ray, start, streams, &mut paths, &mut sums.splats, &mut rays)
                 }
                 _ => {
+                    let guided = Guided { guide, trail: learning.map(|_| &mut trail) };
                     let traced = trace::<_, WORLD>(
                         &job.scene,
                         &closest_hit,
-                        CameraRay { ray, first_light: !at_edges },
-                        start,
+                        CameraRay { ray, start, first_light: !at_edges },
                         &job.settings,
+                        guided,
                         &mut rng,
                         &mut rays,
                     );
+                    if let Some(learning) = learning {
+                        trail.learn(learning, traced);
+                    }
                     // Where a pixel may see a light, its edge points count the light the
                     // camera ray meets first, in place of the path's (`lighting/edges.rs`).
                     if at_edges {

@@ -7,9 +7,14 @@
 //! happen: the light the ray's hit emits (`emission_met`), the light glass mirrors (`glint`),
 //! the bounce followed through a glass ball (`follow`), the light samples at a diffuse hit
 //! (`sample_lights`, pbrt-v4's `SampleLd`), the bounce (`bounce`) and Russian roulette
-//! (`roulette`); or the sky, where the ray escapes (`escaped`).
+//! (`roulette`); or the sky, where the ray escapes (`escaped`). In a guided pass
+//! (`guiding/`), a diffuse-like bounce may be drawn by the guide instead, and a learning
+//! pass notes each such bounce on the path's trail.
 
 use crate::tracer::geometry::hit::Hit;
+use crate::tracer::guiding::bounce::{guided_bounce, guides};
+use crate::tracer::guiding::guide::Guide;
+use crate::tracer::guiding::trail::Trail;
 use crate::tracer::lighting::manifold::{self, Passing, manifold_event};
 use crate::tracer::lighting::{
     Odds, glint, lobe_pdf, mixture_bounce, next_event, power_heuristic, shadow_chance,
@@ -26,15 +31,28 @@ use crate::tracer::scene::Scene;
 use crate::tracer::shading::material::{Lobe, Material, Scatter};
 use crate::tracer::world::object::Probe;
 
-/// A sample's camera ray, and whether its path counts the light that the ray's first hit
-/// emits (if not, the caller counts what the camera sees directly, by
-/// [`Edges`](crate::tracer::lighting::edges::Edges)' points).
+/// A sample's camera ray, its time and media seed, and whether its path counts the light
+/// that the ray's first hit emits (if not, the caller counts what the camera sees directly,
+/// by [`Edges`](crate::tracer::lighting::edges::Edges)' points).
 #[derive(Clone, Copy, Debug)]
 pub struct CameraRay {
     /// The ray.
     pub ray: Ray,
+    /// The ray's time and media seed, which the whole path keeps.
+    pub start: Probe,
     /// Whether the path counts its first hit's light.
     pub first_light: bool,
+}
+
+/// What a path of a guided pass has of the guide: the guide its bounces draw from, and the
+/// trail its bounces are noted on to be learnt from when it ends (each `None` where the
+/// pass has none; both `None` outside guided renders).
+#[derive(Debug, Default)]
+pub struct Guided<'a> {
+    /// The guide.
+    pub guide: Option<&'a Guide>,
+    /// The trail.
+    pub trail: Option<&'a mut Trail>,
 }
 
 /// The radiance arriving along the camera ray: the book's `ray_color`, as a loop. A path casts
@@ -52,13 +70,15 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
     scene: &Scene,
     closest_hit: &impl Fn(&Ray) -> Option<Hit>,
     camera: CameraRay,
-    start: Probe,
     settings: &RenderSettings,
+    guided: Guided<'_>,
     rng: &mut R,
     rays: &mut u64,
 ) -> Vec3 {
+    let CameraRay { mut ray, start, first_light } = camera;
     let mut path = Path::<WORLD>::new(scene, settings, start);
-    let CameraRay { mut ray, first_light } = camera;
+    let Guided { guide, mut trail } = guided;
+    let guiding = WORLD && (guide.is_some() || trail.is_some());
     // A `while`, not `for n in 1..=max_depth`: the inclusive range compiled to more work
     // per ray here.
     let mut n = 0;
@@ -83,11 +103,15 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
             path.glint(&hit, material, ray.dir, scatter.direction, cast, rays);
         }
         // Tested first, so that a first-book scene (always `Bsdf`) has no further work here.
-        let lobe = if path.aiming == LightSampling::Bsdf { None } else { material.lobe() };
+        let lobe = if path.aiming == LightSampling::Bsdf && !guiding { None } else { material.lobe() };
         if path.caustics {
             path.follow(&hit, lobe, scatter.direction);
         }
         if let Some(lobe) = lobe {
+            // A guided bounce is drawn before the light samples, which weigh its direction
+            // (and count the light they find with the material's own attenuation).
+            let drawn = (guiding && guides(n, path.aiming))
+                .then(|| guided_bounce(guide, &hit, lobe, &mut scatter.direction, rng));
             rng.light(n - 1);
             match path.aiming {
                 LightSampling::Mis if n < settings.max_depth => {
@@ -100,6 +124,13 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
                     }
                 }
                 _ => {}
+            }
+            if let Some(drawn) = drawn {
+                scatter.attenuation *= drawn.weight;
+                if let Some(trail) = trail.as_deref_mut() {
+                    let throughput = path.throughput * scatter.attenuation;
+                    trail.push(&hit, lobe, scatter.direction, drawn.pdf, throughput, path.radiance);
+                }
             }
         }
         if !path.bounce(scatter.attenuation) || !path.roulette(n, rng) {
