@@ -8,6 +8,7 @@
 //! one file keeps the imports free of circles.
 
 use crate::tracer::accel::bvh::Bvh;
+use crate::tracer::accel::isa::Isa;
 use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::moving::MovingSphere;
@@ -21,8 +22,9 @@ use crate::tracer::sampling::independent::mix;
 use crate::tracer::world::mesh::Mesh;
 use std::sync::Arc;
 
-/// What a search needs besides the ray: the time the camera ray sampled (for moving shapes)
-/// and the random seed media draw their scattering distances from.
+/// What a search needs besides the ray: the time the camera ray sampled (for moving shapes),
+/// the random seed media draw their scattering distances from, and the vector instructions
+/// meshes are searched with.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Probe {
     /// In `[0, 1)`: where in the shutter interval the path was sampled.
@@ -31,6 +33,8 @@ pub struct Probe {
     /// number with its own id ([`Probe::uniform`]), so what a medium draws does not depend on
     /// the order in which a tree visits objects: `--accel` changes no pixel.
     pub medium_seed: u64,
+    /// The widest vector instructions a mesh's search may use (the same hits at every level).
+    pub isa: Isa,
 }
 
 impl Probe {
@@ -69,7 +73,7 @@ impl Object {
                 let (t, alpha, beta) = quad.intersect(ray, t_max)?;
                 Some(quad.hit_at(ray, t, alpha, beta))
             }
-            Object::Mesh(mesh, material) => mesh.hit(ray, t_max, *material),
+            Object::Mesh(mesh, material) => mesh.hit(ray, t_max, *material, probe.isa),
             Object::Instance(instance) => instance.hit(ray, t_max, probe),
             Object::Medium(medium) => medium.hit(ray, t_max, probe),
         }
@@ -94,7 +98,7 @@ impl Object {
             Object::Sphere(sphere) => sphere.intersect(ray, t_max).is_some(),
             Object::Moving(moving) => moving.at(probe.time).intersect(ray, t_max).is_some(),
             Object::Quad(quad) => quad.intersect(ray, t_max).is_some(),
-            Object::Mesh(mesh, _) => mesh.occludes(ray, t_max),
+            Object::Mesh(mesh, _) => mesh.occludes(ray, t_max, probe.isa),
             Object::Instance(instance) => {
                 instance.group.occludes(&instance.transform.inverse_ray(ray), t_max, probe)
             }
