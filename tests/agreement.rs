@@ -76,7 +76,7 @@ fn through_the_ball_at(scene: &Scene, k: usize, dx: Real, n: usize) -> (Vec<f64>
         u: 0.0,
         v: 0.0,
     };
-    let probe = Probe { time: 0.0, medium_seed: 0 };
+    let probe = Probe { time: 0.0, medium_seed: 0, ..Default::default() };
     let mut rng = SmallRng::seed_from_u64(dx.to_bits() as u64 ^ k as u64);
     let (mut alone, mut weighed, mut rays) = (Vec::new(), Vec::new(), 0);
     for _ in 0..n {

@@ -24,6 +24,7 @@ use raypool::scenes::builtin::{BUILTINS, DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::schedule::frame::{DEFAULT_TILE, Frame};
 use raypool::schedule::modes::{Schedule, render};
 use raypool::schedule::random::{RngChoice, RngSource};
+use raypool::tracer::accel::isa::Isa;
 use raypool::tracer::render::{Adaptive, RenderJob, RenderSettings};
 use raypool::tracer::sampling::sampler::Sampler;
 use sha2::{Digest, Sha256};
@@ -50,8 +51,8 @@ fn cases() -> Vec<(String, &'static str, RenderSettings)> {
     cases
 }
 
-fn sha256_of_render(scene: &str, settings: RenderSettings) -> String {
-    let scene = builtin_scene(scene, DEFAULT_SCENE_SEED).unwrap().to_scene();
+fn sha256_of_render(scene: &str, settings: RenderSettings, isa: Isa) -> String {
+    let scene = builtin_scene(scene, DEFAULT_SCENE_SEED).unwrap().to_scene().with_isa(isa);
     let rng = RngSource::new(&settings, RngChoice::PerSample);
     let frame = Arc::new(Frame::new(RenderJob::new(scene, settings), rng, 2, DEFAULT_TILE, Arc::new(|_| {})));
     let mut pfm = Vec::new();
@@ -69,7 +70,7 @@ fn every_builtin_scene_renders_the_bytes_it_rendered_before() {
             text.lines().filter(|l| !l.starts_with('#')).filter_map(|l| l.split_once(' ')).collect();
         let got: BTreeMap<String, String> = cases()
             .into_iter()
-            .map(|(name, scene, settings)| (name, sha256_of_render(scene, settings)))
+            .map(|(name, scene, settings)| (name, sha256_of_render(scene, settings, Isa::best())))
             .collect();
         if std::env::var_os("RAYPOOL_BLESS").is_some() {
             let lines: String = got.iter().map(|(name, hash)| format!("{name} {hash}\n")).collect();
@@ -83,5 +84,26 @@ fn every_builtin_scene_renders_the_bytes_it_rendered_before() {
             .collect();
         assert!(changed.is_empty(), "these images changed bits (or are new to {HASHES}): {changed:?}");
         assert_eq!(got.len(), expected.len(), "{HASHES} names images no case renders");
+    })
+}
+
+/// The vector instructions change no bit: every golden image, searched with each level this
+/// CPU offers below its best (the test above renders at the best), hashes as blessed. A CPU
+/// without AVX2 or AVX-512 checks fewer levels, and says which.
+#[test]
+fn every_isa_level_renders_the_golden_bytes() {
+    within("the golden renders at every ISA level to finish", || {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(HASHES);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let expected: BTreeMap<&str, &str> =
+            text.lines().filter(|l| !l.starts_with('#')).filter_map(|l| l.split_once(' ')).collect();
+        let lower = Isa::available().into_iter().filter(|&isa| isa != Isa::best());
+        for isa in lower {
+            eprintln!("checking the golden images at {isa:?}");
+            for (name, scene, settings) in cases() {
+                let got = sha256_of_render(scene, settings, isa);
+                assert_eq!(Some(got.as_str()), expected.get(name.as_str()).copied(), "{name} at {isa:?}");
+            }
+        }
     })
 }

@@ -218,7 +218,7 @@ fn floor_cell(v: &Vertex) -> Option<usize> {
 /// The light path from `light` along `d` that refracts into the ball and out again, as a walk
 /// that chose to refract both times makes it: its two glass vertices and the one after.
 fn refracted_twice(scene: &Scene, light: &Vertex, d: Vec3) -> Option<[Vertex; 3]> {
-    let probe = Probe { time: 0.0, medium_seed: 0 };
+    let probe = Probe { time: 0.0, medium_seed: 0, ..Default::default() };
     let mut ray = Ray { origin: light.point + lift(light.point) * light.normal, dir: d };
     let mut path = [*light; 3];
     for (k, vertex) in path.iter_mut().enumerate() {
@@ -236,7 +236,7 @@ fn refracted_twice(scene: &Scene, light: &Vertex, d: Vec3) -> Option<[Vertex; 3]
 /// The density per area that a light path's vertex after the ball records: `pdf_fwd`, as
 /// `walk` sets it through `chain.rs`, for the path `refracted_twice` makes along `d`.
 fn recorded_through(scene: &Scene, camera: &Camera, light: &Vertex, d: Vec3, path: &[Vertex; 3]) -> f64 {
-    let (probe, mut rays) = (Probe { time: 0.0, medium_seed: 0 }, 0);
+    let (probe, mut rays) = (Probe { time: 0.0, medium_seed: 0, ..Default::default() }, 0);
     let pdf = light.direction_pdf(d, camera);
     let chain = Chain { vertices: &path[..2], backwards: false };
     f64::from(density_through(scene, light, Leaving { dir: d, pdf }, chain, &path[2], probe, &mut rays))
@@ -274,7 +274,7 @@ fn light_path_vertices_lie_as_densely_as_they_record() {
     let scene = cornell();
     let camera = Camera::new(&scene.camera, 64, 64);
     let ball = *scene.casters().ball(0);
-    let probe = Probe { time: 0.0, medium_seed: 0 };
+    let probe = Probe { time: 0.0, medium_seed: 0, ..Default::default() };
     for (k, point) in [Vec3::new(278.0, 554.0, 279.5), Vec3::new(335.0, 554.0, 325.0)].into_iter().enumerate()
     {
         let light = Vertex::light(point, Vec3::NEG_Y, EMIT, scene.lights().origin_pdf(EMIT));

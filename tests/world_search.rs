@@ -5,6 +5,7 @@
 mod rooms;
 
 use raypool::scenes::format::SceneFile;
+use raypool::tracer::accel::isa::Isa;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::world::object::Probe;
@@ -91,7 +92,7 @@ fn a_mesh_search_finds_exactly_what_testing_every_triangle_finds() {
     }
     let mut hits = 0;
     for ray in &rays {
-        let searched = mesh.closest(ray, Real::INFINITY).map(|(k, hit)| (k, hit.t));
+        let searched = mesh.closest(ray, Real::INFINITY, Isa::best()).map(|(k, hit)| (k, hit.t));
         assert_eq!(searched, every_triangle(ray), "the search and every triangle disagree on {ray:?}");
         hits += usize::from(searched.is_some());
     }
@@ -119,7 +120,7 @@ fn a_shadow_rays_search_finds_a_blocker_exactly_when_the_closest_hit_search_find
                 lerp(bounds.min.z, bounds.max.z, uniform(&mut rng)),
             );
             let ray = Ray::new(from, raypool::tracer::sampling::warp::random_unit_vector(&mut rng));
-            let probe = Probe { time: uniform(&mut rng), medium_seed: k };
+            let probe = Probe { time: uniform(&mut rng), medium_seed: k, ..Default::default() };
             let nearest = scene.hit_world(&ray, &probe).map(|hit| hit.t);
             let t_max = match nearest {
                 Some(t) if k % 2 == 0 => t * if k % 4 == 0 { 1.001 } else { 0.999 },

@@ -34,6 +34,7 @@ use embree::sys::{
     rtcSetNewGeometryBuffer, rtcSetSceneBuildQuality,
 };
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::tracer::accel::isa::Isa;
 use raypool::tracer::camera::Camera;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3, to_f32};
@@ -162,7 +163,7 @@ fn ray_set(camera: &Camera, mesh: &Mesh, width: u32, height: u32) -> Vec<Ray> {
     }
     let camera_rays = rays.len();
     for k in 0..camera_rays {
-        if let Some(hit) = mesh.hit(&rays[k], Real::INFINITY, 0) {
+        if let Some(hit) = mesh.hit(&rays[k], Real::INFINITY, 0, Isa::BASELINE) {
             let dir = hit.normal + unit_vector(&mut state);
             if dir.length_squared() > 1e-8 {
                 rays.push(hit.spawn(dir.normalize()));
@@ -177,7 +178,7 @@ fn ray_set(camera: &Camera, mesh: &Mesh, width: u32, height: u32) -> Vec<Ray> {
 fn disagreements(mesh: &Mesh, embree: &EmbreeTriangles, rays: &[Ray]) -> (usize, usize, usize) {
     let (mut hit_miss, mut distance, mut hits) = (0, 0, 0);
     for ray in rays {
-        match (mesh.closest(ray, Real::INFINITY), embree.closest(ray)) {
+        match (mesh.closest(ray, Real::INFINITY, Isa::BASELINE), embree.closest(ray)) {
             (Some((_, ours)), Some((_, t))) => {
                 hits += 1;
                 let ours = to_f32(ours.t);
@@ -212,11 +213,13 @@ fn pass(rays: &[Ray], closest: impl Fn(&Ray) -> Option<f32>) -> (f64, usize) {
 }
 
 /// The Embree devices raypool is compared with: its own choice of instruction set (on a CPU
-/// with AVX2 or AVX-512, an eight-wide tree), and held to SSE2, the baseline x86-64 that
-/// raypool is built for (a four-wide tree, as raypool's).
-const EMBREE_DEVICES: [(&str, &str, &CStr); 2] = [
-    ("Embree triangles + Embree tree, its own CPU dispatch", "Embree", c""),
-    ("Embree held to SSE2 (`isa=sse2`: raypool's instruction set)", "Embree held to SSE2", c"isa=sse2"),
+/// with AVX2 or AVX-512, an eight-wide tree), then held to each level raypool runs at (its
+/// configuration string `isa=…`), with the name of that level (`None`: its own choice).
+const EMBREE_DEVICES: [(&str, &str, &CStr, Option<&str>); 4] = [
+    ("Embree triangles + Embree tree, its own CPU dispatch", "Embree", c"", None),
+    ("Embree held to SSE2 (`isa=sse2`)", "Embree held to SSE2", c"isa=sse2", Some("sse2")),
+    ("Embree held to AVX2 (`isa=avx2`)", "Embree held to AVX2", c"isa=avx2", Some("avx2")),
+    ("Embree held to AVX-512 (`isa=avx512`)", "Embree held to AVX-512", c"isa=avx512", Some("avx512")),
 ];
 /// Runs the comparison and returns the results' section (Markdown). Panics where raypool and
 /// an Embree device disagree beyond the tolerance, or a timed pass counts a different number
@@ -235,9 +238,15 @@ pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) 
     let camera = Camera::new(&scene.camera, width, height);
     let rays = ray_set(&camera, &mesh, width, height);
     let camera_rays = (width * height) as usize;
-    let embrees: Vec<EmbreeTriangles> = EMBREE_DEVICES
+    // The levels this CPU has: raypool at each, and Embree held to each.
+    let levels = Isa::available();
+    let devices: Vec<_> = EMBREE_DEVICES
         .iter()
-        .map(|(_, _, config)| {
+        .filter(|(.., level)| level.is_none_or(|name| Isa::named(name).is_ok()))
+        .collect();
+    let embrees: Vec<EmbreeTriangles> = devices
+        .iter()
+        .map(|(_, _, config, _)| {
             EmbreeTriangles::new(mesh.positions(), mesh.triangles(), config).unwrap_or_else(|e| panic!("{e}"))
         })
         .collect();
@@ -245,8 +254,8 @@ pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) 
     let allowed = (1e-4 * rays.len() as f64).floor() as usize;
     let checks: Vec<(usize, usize)> = embrees
         .iter()
-        .zip(&EMBREE_DEVICES)
-        .map(|(embree, (_, name, _))| {
+        .zip(&devices)
+        .map(|(embree, (_, name, ..))| {
             let (hit_miss, distance, _) = disagreements(&mesh, embree, &rays);
             assert!(
                 hit_miss + distance <= allowed,
@@ -258,15 +267,19 @@ pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) 
         })
         .collect();
 
-    // Contestant 0 is raypool, then each Embree device; each round starts one further on.
-    let searches = 1 + embrees.len();
+    // raypool at each level (sse2 first), then each Embree device; each round starts one
+    // further on.
+    let ours = levels.len();
+    let searches = ours + embrees.len();
     let search = |k: usize| -> (f64, usize) {
-        match k {
-            0 => pass(&rays, |ray| mesh.closest(ray, Real::INFINITY).map(|(_, h)| to_f32(h.t))),
-            k => pass(&rays, |ray| embrees[k - 1].closest(ray).map(|(_, t)| t)),
+        if k < ours {
+            pass(&rays, |ray| mesh.closest(ray, Real::INFINITY, levels[k]).map(|(_, h)| to_f32(h.t)))
+        } else {
+            pass(&rays, |ray| embrees[k - ours].closest(ray).map(|(_, t)| t))
         }
     };
-    let name = |k: usize| if k == 0 { "raypool" } else { EMBREE_DEVICES[k - 1].1 };
+    let name =
+        |k: usize| if k < ours { format!("raypool at {:?}", levels[k]) } else { devices[k - ours].1.into() };
     let (mut seconds, mut counted) = (vec![Vec::new(); searches], vec![Vec::new(); searches]);
     for round in 0..rounds {
         for step in 0..searches {
@@ -293,8 +306,11 @@ pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) 
             } else {
                 (format!("{:.2}", median_of(&ratios)), format!("{lo:.2}–{hi:.2}"))
             };
-            let label =
-                if k == 0 { "raypool (4-wide tree, watertight test; SSE2)" } else { EMBREE_DEVICES[k - 1].0 };
+            let label = if k < ours {
+                format!("raypool at {:?} (4-wide tree, watertight test)", levels[k])
+            } else {
+                devices[k - ours].0.to_owned()
+            };
             format!(
                 "| {label} | {runs} | {:.1} | {:.2} | **{ratio}** | {range} | {} |\n",
                 median * 1e3,
@@ -303,10 +319,29 @@ pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) 
             )
         })
         .collect();
+    // Each level beside Embree held to it, and beside Embree's own choice: Embree's time over
+    // raypool's, round by round (above 1: raypool finds more rays a second).
+    let paired = |ours: usize, theirs: usize| -> String {
+        let ratios: Vec<f64> = seconds[theirs].iter().zip(&seconds[ours]).map(|(t, r)| t / r).collect();
+        format!("{:.2}", median_of(&ratios))
+    };
+    let level_rows: Vec<String> = levels
+        .iter()
+        .enumerate()
+        .map(|(k, isa)| {
+            let held = devices.iter().position(|(.., level)| *level == Some(isa.name()));
+            let held = held.map_or("–".to_owned(), |d| paired(k, ours + d));
+            format!(
+                "| {isa:?} | {:.1} | **{held}** | **{}** |\n",
+                median_of(&seconds[k]) * 1e3,
+                paired(k, ours)
+            )
+        })
+        .collect();
     let checked: Vec<String> = checks
         .iter()
-        .zip(&EMBREE_DEVICES)
-        .map(|((hit_miss, distance), (_, name, _))| {
+        .zip(&devices)
+        .map(|((hit_miss, distance), (_, name, ..))| {
             format!("against {name}, {hit_miss} rays hit in one and not the other and {distance} at distances apart")
         })
         .collect();
@@ -320,13 +355,17 @@ pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) 
          ray per pixel of {width} × {height} ({camera_rays}), plus one diffuse bounce spawned from\n\
          each that hits the mesh ({bounces}): {n} rays. One thread; {rounds} rounds, each timing\n\
          the whole set through every search, in an order that turns one step a round.\n\n\
-         Embree twice: as it runs by default (it picks its code for the CPU at run time), and held\n\
-         to SSE2 by its configuration string (`isa=sse2`), the instruction set raypool is built\n\
-         for (the project keeps the baseline x86-64 target; `#![forbid(unsafe_code)]` rules out\n\
-         raypool choosing code at run time, which needs `unsafe` to call).\n\n\
+         raypool at each vector level this CPU has (`RAYPOOL_ISA`: the same code compiled again\n\
+         with AVX2 or AVX-512 enabled, chosen at run time; the same hits at every level), and\n\
+         Embree as it runs by default (it picks its code for the CPU at run time) and held to\n\
+         each of those levels by its configuration string (`isa=…`).\n\n\
          Machine: {machine}; Embree {embree_version}.\n\
          Command: `{command}`.\n\n\
-         | search | runs (ms) | median (ms) | Mrays/s | raypool's rays/s ÷ this search's (median of paired ratios) | range of paired ratios | hits |\n\
+         | raypool's level | raypool's median (ms) | × Embree held to that level (rays/s, median of paired ratios) | × Embree's own choice |\n\
+         |---|---:|---:|---:|\n\
+         {level_rows}\n\
+         Every search, against raypool at sse2 (the build's own instructions):\n\n\
+         | search | runs (ms) | median (ms) | Mrays/s | raypool sse2's rays/s ÷ this search's (median of paired ratios) | range of paired ratios | hits |\n\
          |---|---|---:|---:|---:|---:|---:|\n\
          {rows}\n\
          Before timing, every ray went through raypool and each Embree device, the hits compared\n\
@@ -337,6 +376,7 @@ pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) 
         bounces = rays.len() - camera_rays,
         n = rays.len(),
         rows = rows.concat(),
+        level_rows = level_rows.concat(),
         checked = checked.join("; "),
     )
 }

@@ -10,6 +10,7 @@ use crate::measure::machine::cpus;
 use crate::scenes::builtin::builtin_scene;
 use crate::scenes::format::SceneFile;
 use crate::schedule::random::RngChoice;
+use crate::tracer::accel::isa::Isa;
 use crate::tracer::render::{RenderJob, RenderSettings, default_height};
 use crate::tracer::sampling::sampler::Sampler;
 
@@ -65,12 +66,23 @@ fn sampler(args: &ImageArgs, rng: RngChoice) -> Result<Sampler, Error> {
     }
 }
 
-/// The job to render: `scene` with the `--accel` method, under `settings`, if their light
-/// transport admits the scene ([`Integrator::admits`]).
+/// The job to render: `scene` with the `--accel` method and the vector instructions of
+/// [`isa`], under `settings`, if their light transport admits the scene
+/// ([`Integrator::admits`]).
 pub fn render_job(args: &ImageArgs, scene: &SceneFile, settings: RenderSettings) -> Result<RenderJob, Error> {
-    let scene = scene.to_scene();
+    let scene = scene.to_scene().with_isa(isa()?);
     Integrator::of(&settings).admits(&scene)?;
     Ok(RenderJob::new(args.accel.apply(scene), settings))
+}
+
+/// The vector instructions searches use: `RAYPOOL_ISA`'s level (`sse2`, `avx2`, `avx512`),
+/// for tests and benchmarks, else the widest this CPU offers. Every level renders the same
+/// bytes.
+pub fn isa() -> Result<Isa, Error> {
+    match std::env::var("RAYPOOL_ISA") {
+        Ok(name) => Isa::named(&name).map_err(|e| Error::new(format!("RAYPOOL_ISA: {e}"))),
+        Err(_) => Ok(Isa::best()),
+    }
 }
 
 /// The worker threads `--threads` asks for, else one per CPU.

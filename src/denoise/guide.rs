@@ -130,7 +130,7 @@ fn first_hit<R: SampleRng>(job: &RenderJob, rng: &mut R, i: u32, j: u32) -> Guid
         let found = if scene.is_first_book() {
             scene.hit(&ray, Real::INFINITY)
         } else {
-            scene.hit_world(&ray, &Probe { time, medium_seed: 0 })
+            scene.hit_world(&ray, &Probe { time, medium_seed: 0, isa: scene.isa() })
         };
         let Some(hit) = found else {
             let albedo = tint * scene.background.radiance(ray.dir);

@@ -329,7 +329,7 @@ fn accumulate_paths<S: RandomStreams, const WORLD: bool>(
             } else {
                 0
             };
-            let start = Probe { time, medium_seed: path };
+            let start = Probe { time, medium_seed: path, isa: job.scene.isa() };
             let value = match (&bidir, &light_pixel) {
                 (Some(bidir), Some(light_pixel)) => {
                     let mut light_rng = light_pixel.stream(sample as u64);

@@ -14,6 +14,7 @@
 //! medium ([`Scene::has_media`]).
 
 use crate::tracer::accel::bvh::{Bvh, half_area_around};
+use crate::tracer::accel::isa::Isa;
 use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::camera::CameraSettings;
 use crate::tracer::geometry::hit::{Closest, Hit};
@@ -107,6 +108,9 @@ pub struct Scene {
     lights: Lights,
     /// The glass balls paths aim at the lights through (none without lights).
     casters: Casters,
+    /// The widest vector instructions its searches use: the CPU's best unless
+    /// [`Scene::with_isa`] chose another (the same hits at every level).
+    isa: Isa,
 }
 
 impl Scene {
@@ -171,6 +175,7 @@ impl Scene {
                 media,
                 lights,
                 casters,
+                isa: Isa::best(),
             };
         }
         let accel = match spheres.len() {
@@ -194,6 +199,7 @@ impl Scene {
             media: false,
             lights: Lights::default(),
             casters: Casters::default(),
+            isa: Isa::best(),
         };
         scene.with_accel(accel)
     }
@@ -232,6 +238,18 @@ impl Scene {
         self.direct_count = direct;
         self.accel = accel;
         self
+    }
+
+    /// The same scene searched with the vector instructions of `isa` (for tests and
+    /// benchmarks: every level finds the same hits, only the time differs).
+    pub fn with_isa(mut self, isa: Isa) -> Scene {
+        self.isa = isa;
+        self
+    }
+
+    /// The vector instructions its searches use.
+    pub fn isa(&self) -> Isa {
+        self.isa
     }
 
     /// The same scene traced by testing every sphere (for the ablation table and the
@@ -395,7 +413,10 @@ impl Scene {
         if self.accel == Accel::WidePackets && self.intersection == Intersection::Robust {
             wide.intersect(ray, &mut closest);
         } else {
-            wide.intersect_each(&self.spheres, ray, &mut closest, test);
+            self.isa.run(
+                #[inline(always)]
+                || wide.intersect_each(&self.spheres, ray, &mut closest, test),
+            );
         }
         closest.found()
     }

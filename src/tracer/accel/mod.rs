@@ -11,3 +11,4 @@
 pub mod packet;
 pub mod bvh;
 pub mod wide;
+pub mod isa;

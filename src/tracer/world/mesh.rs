@@ -11,6 +11,7 @@
 //! their indices (Embree keeps its leaves so).
 
 use crate::tracer::accel::bvh::Bvh;
+use crate::tracer::accel::isa::Isa;
 use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::triangle::{self, RayFrame, TriangleHit, Triangles4};
@@ -69,13 +70,13 @@ impl Mesh {
     /// of range, a triangle of zero area, a number that is not finite, or no triangle at all.
     ///
     /// ```
-    /// use raypool::tracer::world::mesh::Mesh;
+    /// use raypool::tracer::{accel::isa::Isa, world::mesh::Mesh};
     /// use raypool::tracer::math::{ray::Ray, real::Vec3};
     /// let square = Mesh::new(
     ///     vec![Vec3::new(-1.0, -1.0, -3.0), Vec3::new(1.0, -1.0, -3.0), Vec3::new(1.0, 1.0, -3.0), Vec3::new(-1.0, 1.0, -3.0)],
     ///     vec![], vec![], vec![[0, 1, 2], [0, 2, 3]],
     /// ).unwrap();
-    /// assert_eq!(square.hit(&Ray::new(Vec3::ZERO, -Vec3::Z), f32::INFINITY, 0).unwrap().t, 3.0);
+    /// assert_eq!(square.hit(&Ray::new(Vec3::ZERO, -Vec3::Z), f32::INFINITY, 0, Isa::best()).unwrap().t, 3.0);
     /// assert!(Mesh::new(vec![Vec3::ZERO; 3], vec![], vec![], vec![[0, 1, 2]]).is_err(), "no area");
     /// ```
     pub fn new(
@@ -169,9 +170,18 @@ impl Mesh {
         self.triangles[k].map(|i| self.positions[i as usize])
     }
 
-    /// The nearest triangle hit in `(0, t_max)` as `(triangle, hit)`, ties to the lower index.
+    /// The nearest triangle hit in `(0, t_max)` as `(triangle, hit)`, ties to the lower index,
+    /// searched with the vector instructions of `isa` (the same answer at every level).
     #[inline]
-    pub fn closest(&self, ray: &Ray, t_max: Real) -> Option<(usize, TriangleHit)> {
+    pub fn closest(&self, ray: &Ray, t_max: Real, isa: Isa) -> Option<(usize, TriangleHit)> {
+        isa.run(
+            #[inline(always)]
+            || self.closest_here(ray, t_max),
+        )
+    }
+
+    #[inline(always)]
+    fn closest_here(&self, ray: &Ray, t_max: Real) -> Option<(usize, TriangleHit)> {
         let mut closest = Closest::none(t_max);
         // The leaf test's findings for the closest hit so far: copied whole when a lane wins
         // (about once a ray), its barycentric coordinates worked out once, at the end.
@@ -195,7 +205,15 @@ impl Mesh {
 
     /// Whether any triangle is hit in `(0, t_max)`: the search ends at the first found.
     #[inline]
-    pub fn occludes(&self, ray: &Ray, t_max: Real) -> bool {
+    pub fn occludes(&self, ray: &Ray, t_max: Real, isa: Isa) -> bool {
+        isa.run(
+            #[inline(always)]
+            || self.occludes_here(ray, t_max),
+        )
+    }
+
+    #[inline(always)]
+    fn occludes_here(&self, ray: &Ray, t_max: Real) -> bool {
         let mut closest = Closest::none(t_max);
         let mut found = false;
         let frame = RayFrame::new(ray);
@@ -210,8 +228,8 @@ impl Mesh {
 
     /// The nearest hit in `(0, t_max)`, with `material`.
     #[inline]
-    pub fn hit(&self, ray: &Ray, t_max: Real, material: u32) -> Option<Hit> {
-        let (k, found) = self.closest(ray, t_max)?;
+    pub fn hit(&self, ray: &Ray, t_max: Real, material: u32, isa: Isa) -> Option<Hit> {
+        let (k, found) = self.closest(ray, t_max, isa)?;
         let [i0, i1, i2] = self.triangles[k].map(|i| i as usize);
         let [b0, b1, b2] = found.barycentric;
         let p = [self.positions[i0], self.positions[i1], self.positions[i2]];

@@ -51,7 +51,7 @@ impl Object {
                 let (t, alpha, beta) = quad.intersect(ray, t_max)?;
                 Some(quad.hit_at(ray, t, alpha, beta))
             }
-            Object::Mesh(mesh, material) => mesh.hit(ray, t_max, *material),
+            Object::Mesh(mesh, material) => mesh.hit(ray, t_max, *material, probe.isa),
             Object::Instance(instance) => instance.hit(ray, t_max, probe),
             Object::Medium(medium) => medium.hit(ray, t_max, probe),
         }
@@ -76,7 +76,7 @@ impl Object {
             Object::Sphere(sphere) => sphere.intersect(ray, t_max).is_some(),
             Object::Moving(moving) => moving.at(probe.time).intersect(ray, t_max).is_some(),
             Object::Quad(quad) => quad.intersect(ray, t_max).is_some(),
-            Object::Mesh(mesh, _) => mesh.occludes(ray, t_max),
+            Object::Mesh(mesh, _) => mesh.occludes(ray, t_max, probe.isa),
             Object::Instance(instance) => {
                 let local = instance.transform.inverse_ray(ray);
                 instance.group.may_hit(&local, t_max) && instance.group.occludes(&local, t_max, probe)

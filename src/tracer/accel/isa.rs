@@ -1,0 +1,118 @@
+//! **Wide vectors, chosen at run time.** raypool is built for baseline x86-64 (SSE2: four f32
+//! lanes), so the binary runs on any x86-64; a search that [`Isa::run`]s its code on a CPU
+//! with AVX2 or AVX-512 gets that code compiled again with those instructions enabled, where
+//! an eight-lane [`Lanes`](crate::tracer::math::lanes::Lanes) operation is one instruction
+//! instead of two. Calling code compiled for instructions the CPU may lack needs `unsafe`
+//! (`#[target_feature]`); the `pulp` crate (faer's; already built for `image`'s EXR reader)
+//! keeps that `unsafe` inside itself behind a token that exists only once the CPU has been
+//! asked, so our crates stay `#![forbid(unsafe_code)]`.
+//!
+//! Invariant: the level changes instructions, never numbers. The code run is the same Rust at
+//! every level, each lane's arithmetic one IEEE operation with nothing fused, so every search
+//! finds the same hit bit for bit and an image is the same whatever the level
+//! (`tests/isa.rs`).
+
+use std::fmt;
+
+/// The widest vector instructions a search may use: the best the CPU offers by default, or a
+/// lower level asked for by name (`RAYPOOL_ISA`, for tests and benchmarks).
+///
+/// ```
+/// use raypool::tracer::accel::isa::Isa;
+/// let best = Isa::best();
+/// assert_eq!(best.run(|| 6 * 7), 42, "the same answer at every level");
+/// assert_eq!(Isa::named("sse2"), Ok(Isa::BASELINE));
+/// assert!(Isa::named("avx3").unwrap_err().contains("sse2, avx2 or avx512"));
+/// ```
+#[derive(Clone, Copy)]
+pub struct Isa(Level);
+
+#[derive(Clone, Copy)]
+enum Level {
+    /// What every x86-64 has (or, elsewhere, what the build targets).
+    Baseline,
+    #[cfg(target_arch = "x86_64")]
+    Avx2(pulp::x86::V3),
+    #[cfg(target_arch = "x86_64")]
+    Avx512(pulp::x86::V4),
+}
+
+impl Isa {
+    /// The build's own instructions (SSE2 on x86-64).
+    pub const BASELINE: Isa = Isa(Level::Baseline);
+
+    /// The names [`Isa::named`] takes, lowest first.
+    pub const NAMES: [&'static str; 3] = ["sse2", "avx2", "avx512"];
+
+    /// The widest level this CPU offers.
+    pub fn best() -> Isa {
+        Isa::available().pop().expect("the baseline is always available")
+    }
+
+    /// Every level this CPU offers, lowest first (the baseline always).
+    pub fn available() -> Vec<Isa> {
+        Isa::NAMES.iter().filter_map(|name| Isa::named(name).ok()).collect()
+    }
+
+    /// The level called `name` (`sse2`, `avx2` or `avx512`), if this CPU has it.
+    pub fn named(name: &str) -> Result<Isa, String> {
+        let missing = |what: &str| Err(format!("this CPU has no {what}, so the ISA `{name}` cannot run"));
+        match name {
+            "sse2" => Ok(Isa::BASELINE),
+            #[cfg(target_arch = "x86_64")]
+            "avx2" => pulp::x86::V3::try_new()
+                .map_or_else(|| missing("AVX2 and FMA"), |v3| Ok(Isa(Level::Avx2(v3)))),
+            #[cfg(target_arch = "x86_64")]
+            "avx512" => {
+                pulp::x86::V4::try_new().map_or_else(|| missing("AVX-512"), |v4| Ok(Isa(Level::Avx512(v4))))
+            }
+            _ => Err(format!("unknown ISA `{name}`: it is sse2, avx2 or avx512")),
+        }
+    }
+
+    /// Its name, as [`Isa::named`] takes it.
+    pub fn name(self) -> &'static str {
+        match self.0 {
+            Level::Baseline => "sse2",
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2(_) => "avx2",
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512(_) => "avx512",
+        }
+    }
+
+    /// Runs `op` compiled for this level: `op` (and what it inlines) is compiled once per
+    /// level, and this picks the copy. Only code inlined into `op` gains: mark the search's
+    /// functions `#[inline(always)]`.
+    #[inline(always)]
+    pub fn run<R>(self, op: impl FnOnce() -> R) -> R {
+        match self.0 {
+            Level::Baseline => op(),
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2(v3) => v3.vectorize(op),
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512(v4) => v4.vectorize(op),
+        }
+    }
+}
+
+impl PartialEq for Isa {
+    fn eq(&self, other: &Isa) -> bool {
+        self.name() == other.name()
+    }
+}
+
+impl Eq for Isa {}
+
+impl Default for Isa {
+    /// The widest level this CPU offers.
+    fn default() -> Isa {
+        Isa::best()
+    }
+}
+
+impl fmt::Debug for Isa {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
