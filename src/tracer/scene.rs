@@ -391,11 +391,8 @@ impl Scene {
 
     /// The four-wide tree's search, after the spheres tested directly found `direct`. Kept out
     /// of line: with the wide traversal inlined, [`Scene::hit`] was a call that saved and
-    /// restored six registers per ray for every scene; now the flat loop, the binary tree and
-    /// the hit record inline into the path loop and only the wide tree costs a call. Measured
-    /// (callgrind, 200 × 133, 4 spp): paper1 −0.8%, paper2 −3.3%, paper3 −2.9%, three-spheres
-    /// −1.6% instructions, final +0.8% (the call moved here); paired time paper2 1.024, paper3
-    /// 0.994, final 1.000.
+    /// restored six registers per ray for every scene; now only the wide tree costs a call
+    /// (`results/history/comment-figures.md`).
     #[inline(never)]
     fn closest_wide(
         &self,
