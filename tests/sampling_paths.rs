@@ -168,18 +168,19 @@ fn manifold_samples_leave_the_floor_by_the_density_bounce_density_states() {
 /// The same test half a unit, a quarter and a tenth from the foot, where the floor point lies
 /// 0.0014, 0.0003 and 0.00006 outside the sphere the ball's radius draws round its centre and
 /// sees the ball only within 0.3–0.06° of its tangents. It failed there (p = 1.8e-11 at 0.5,
-/// below 1e-300 at 0.25 and 0.1) while the solve worked in `f32`: its passages, traced again in `f64`, landed a median 0.28
-/// and up to 1.7 units off the lamp points they were solved for, from two faults. The solve's
-/// plane took the start's distance from the glass as a difference of numbers near the radius
-/// (`passage.rs` now writes it with the gap and the entry point's sag, after an `f64` set-up);
-/// and a passage rounded to `f32` cannot say where it points: one `f32` step of its entry
-/// point turns the ray enough to land a unit away, so a passage carries its direction
-/// (`Passage::dir`, from `Ball::cross` in `f64`). Now they land a median 0.0002 and at most
-/// 0.005 off at 0.5 (the solve's aim, 1e-5 rad, over the way to the lamp).
+/// below 1e-300 at 0.25 and 0.1) while the solve worked in `f32`: its passages, traced again
+/// in `f64`, landed a median 0.28 and up to 1.7 units off the lamp points they were solved
+/// for, from two faults. The solve's plane took the start's distance from the glass as a
+/// difference of numbers near the radius (`passage.rs` now writes it, and the tangents'
+/// angle, with the gap and the entry point's sag, after an `f64` set-up); and a passage
+/// rounded to `f32` cannot say where it points: one `f32` step of its entry point turns the
+/// ray enough to land a unit away, so a passage carries its direction (`Passage::dir`, from
+/// `Ball::cross` in `f64`). Now they land a median 0.0002 and at most 0.005 off at 0.5 (the
+/// solve's aim, 1e-5 rad, over the way to the lamp).
 ///
-/// Measured when written (printed): p = 0.05, 0.26, 0.24; over 8 more seeds each, one of 24
-/// below 0.01 (5.5e-4 at 0.5), the others 0.12–0.97. A ±5% tilt is rejected at p = 2e-68,
-/// 6e-36, 5e-5; the smallest tilt rejected is ±1%, ±2% and ±4.5% (at 0.1, nine lamp points
+/// Measured when written (printed): p = 0.05, 0.27, 0.23; over 8 more seeds each, one of 24
+/// below 0.01 (5.3e-4 at 0.5), the others 0.12–0.97. A ±5% tilt is rejected at p = 2e-68,
+/// 7e-36, 4e-5; the smallest tilt rejected is ±1%, ±2% and ±4.5% (at 0.1, nine lamp points
 /// in ten have no passage, so fewer are counted). With the direction carried but the plane's
 /// differences as before, 0.5 passes (p = 0.04) and 0.25 fails (p < 1e-300). About 4 s on one
 /// core.

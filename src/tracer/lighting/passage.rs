@@ -64,9 +64,10 @@ const AIM: Real = 1e-5;
 /// assert!((to - found[0].exit).normalize().dot(found[0].out) > 1.0 - 1e-6);
 /// ```
 pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
-    // Set up in double precision (the start's gap from the glass, the plane's axes, the tries'
-    // angles): a start near the glass sees the ball only within thousandths of a radian of its
-    // tangents, closer than `f32` places them. The tries then run in `f32` (`Plane::sides`).
+    // The start, the target and the plane's axes in double precision, and the tries' angles
+    // from the start's gap from the glass: a start near the glass sees the ball only within
+    // thousandths of a radian of its tangents, closer than `f32` differences place them. The
+    // tries then run in `f32` (`Plane::sides`).
     let (center, radius) = (to_dvec3(ball.sphere.center), to_f64(ball.sphere.radius));
     let (from, to) = (to_dvec3(from), to_dvec3(to));
     let reach = from - center;
@@ -78,25 +79,28 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
     // The plane's axes: `e1` towards `from`, `e2` towards `to`'s side of it.
     let e1 = reach / distance;
     let Some(e2) = (target - target.dot(e1) * e1).try_normalize() else { return };
-    // `from` sees the entry angles up to `limit = acos(r / d)` either way (the two tangents,
-    // where the glass would meet the ray edge-on, never pass): tried at `TRIES` angles from
-    // `-limit` up, four at a time, each turned from the one before by a rotation (so the
-    // tries take one arc cosine, one sine and one cosine between them, however many).
-    let limit = (radius / distance).acos();
-    let step = 2.0 * limit / (TRIES - 1) as f64;
-    let angle = |k: usize| (-limit + step * k as f64) as Real;
-    let turn = Turn::by(step as Real);
-    let mut lanes = [Turn { sin: -limit.sin() as Real, cos: (radius / distance) as Real }; 4];
+    let apart = ((-reach.dot(target) / (distance * far)) as Real).clamp(-1.0, 1.0).acos();
+    let target = (target.dot(e1) as Real, target.dot(e2) as Real);
+    let gap = (distance - radius) as Real;
+    let (distance, far, radius) = (distance as Real, far as Real, radius as Real);
+    // `from` sees the entry angles up to `limit = acos(r / d) = 2 asin √(gap / 2d)` either way
+    // (the two tangents, where the glass would meet the ray edge-on, never pass; the second
+    // form keeps its digits near the glass): tried at `TRIES` angles from `-limit` up, four at
+    // a time, each turned from the one before by a rotation (so the tries take one arc sine,
+    // one sine and one cosine between them, however many), from `sin limit = √(gap (d + r)) / d`.
+    let limit = 2.0 * (gap / (2.0 * distance)).sqrt().asin();
+    let step = 2.0 * limit / (TRIES - 1) as Real;
+    let angle = |k: usize| -limit + step * k as Real;
+    let turn = Turn::by(step);
+    let mut lanes = [Turn { sin: -(gap * (distance + radius)).sqrt() / distance, cos: radius / distance }; 4];
     for k in 1..4 {
         lanes[k] = turn.apply(lanes[k - 1]);
     }
-    let apart = (-reach.dot(target) / (distance * far)).clamp(-1.0, 1.0).acos();
-    if !within_reach(ball, distance as Real, far as Real, lanes[1], apart as Real) {
+    if !within_reach(ball, distance, far, lanes[1], apart) {
         return;
     }
-    let target = (target.dot(e1) as Real, target.dot(e2) as Real);
-    let (gap, ior) = ((distance - radius) as Real, ball.ior);
-    let plane = Plane { radius: radius as Real, inverse_radius: (1.0 / radius) as Real, gap, ior, target };
+    let ior = ball.ior;
+    let plane = Plane { radius, inverse_radius: 1.0 / radius, gap, ior, target };
     let (mut sin, mut cos) = (Real4::from(lanes.map(|l| l.sin)), Real4::from(lanes.map(|l| l.cos)));
     let four = turn.twice().twice();
     let miss = |angle: Real| {
@@ -121,7 +125,10 @@ pub fn solve(ball: &Ball, from: Vec3, to: Vec3, mut each: impl FnMut(Passage)) {
     seen &= !(1 | 1 << (TRIES - 1));
     // Bit k: tries k and k + 1 are both seen and on opposite sides.
     let mut changes = seen & (seen >> 1) & (negative ^ (negative >> 1)) & ((1u64 << (TRIES - 1)) - 1);
-    let entry = |a: f64| center + radius * (a.cos() * e1 + a.sin() * e2);
+    let entry = |a: f64| {
+        let (sin, cos) = a.sin_cos();
+        center + to_f64(radius) * (cos * e1 + sin * e2)
+    };
     let mut pass = |found: Option<Real>| {
         if let Some(crossing) = found.and_then(|a| ball.cross(from, entry(to_f64(a)))) {
             each(crossing.rounded());
