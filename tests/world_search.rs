@@ -196,6 +196,55 @@ fn rays_grazing_quad_edges_find_the_same_hits_through_a_tree_as_one_by_one() {
 }
 
 #[test]
+fn a_group_with_a_medium_breaks_ties_between_surfaces_by_their_order_in_the_group() {
+    // With a medium, a group searches its surfaces through a second tree, of their own boxes
+    // (the medium asked last), whose leaves may hold them in another order than the group's:
+    // a tie must still go to the object earlier in the group ([`Closest`]'s rule, which the
+    // search without a tree follows), not to the earlier lane of a leaf. Pairs of quads in
+    // the floor's plane, one large facing up and one small facing down inside it: rays from
+    // below through the small one meet both at the same distance, and `front_face` shows
+    // which won.
+    use rand::{SeedableRng, rngs::SmallRng};
+    use raypool::tracer::geometry::quad::Quad;
+    use raypool::tracer::geometry::sphere::Sphere;
+    use raypool::tracer::math::aabb::Bounded;
+    use raypool::tracer::sampling::warp::uniform;
+    use raypool::tracer::world::object::{Group, Medium, Object};
+    let pairs: Vec<[Object; 2]> = (0..1_200)
+        .map(|k| {
+            let q = Vec3::new((k % 40) as Real * 50.0, 0.0, (k / 40) as Real * 50.0);
+            let large = Quad::new(q, Vec3::new(0.0, 0.0, 40.0), Vec3::new(40.0, 0.0, 0.0), 0).unwrap();
+            let small = Quad::new(q, Vec3::new(10.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 10.0), 0).unwrap();
+            [large, small].map(Object::Quad)
+        })
+        .collect();
+    let mut objects: Vec<Object> = pairs.iter().flatten().cloned().collect();
+    let fog = Sphere { center: Vec3::ZERO, radius: 5_000.0, material: 0 };
+    let boundary = Group::new(vec![Object::Sphere(fog)]);
+    objects.push(Object::Medium(Box::new(Medium { boundary, density: 1e-6, material: 0, id: 0 })));
+    let tree = Group::new(objects);
+    assert!(tree.has_tree());
+    // Whether each pair's large quad comes first in the group, as the group ordered them.
+    let place = |o: &Object| tree.objects().iter().position(|p| p.bounds() == o.bounds()).unwrap();
+    let large_first: Vec<bool> = pairs.iter().map(|[large, small]| place(large) < place(small)).collect();
+    let mut rng = SmallRng::seed_from_u64(17);
+    let mut ties = [0; 2];
+    for k in 0..20_000u64 {
+        let pair = (k % 1_200) as usize;
+        let corner = Vec3::new((pair % 40) as Real * 50.0, 0.0, (pair / 40) as Real * 50.0);
+        let target = corner + Vec3::new(uniform(&mut rng) * 10.0, 0.0, uniform(&mut rng) * 10.0);
+        let offset = Vec3::new(uniform(&mut rng), -1.0 - 10.0 * uniform(&mut rng), uniform(&mut rng));
+        let ray = Ray::new(target + 30.0 * offset, -offset);
+        let probe = Probe { time: 0.0, medium_seed: k, ..Default::default() };
+        let Some(hit) = tree.hit(&ray, Real::INFINITY, &probe).filter(|h| h.point.y == 0.0) else { continue };
+        let first = large_first[pair];
+        assert_eq!(hit.front_face, !first, "ray {k}: the quad later in the group won a tie: {hit:?}");
+        ties[usize::from(first)] += 1;
+    }
+    assert!(ties.iter().all(|&n| n > 1_000), "ties with the small quad first, the large first: {ties:?}");
+}
+
+#[test]
 fn a_packet_of_quads_finds_bit_for_bit_what_each_quad_finds_alone() {
     // `QuadPacket` runs `Quad::intersect`'s arithmetic in four lanes: the same hits, the same
     // distance and `(α, β)` to the bit, for axis-aligned quads (a box's faces, the walls) and

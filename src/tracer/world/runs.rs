@@ -125,7 +125,10 @@ impl Runs {
         let runs = ranges
             .into_iter()
             .map(|range| {
-                let chosen = &surfaces[range];
+                // Lanes in the order of the group's indices: a packet's nearest lane is the
+                // lowest of equals, which must be the lowest index ([`Closest`]'s tie rule).
+                let mut chosen: Vec<&Surface> = surfaces[range].iter().collect();
+                chosen.sort_by_key(|s| s.index);
                 let indices = std::array::from_fn(|k| chosen.get(k).map_or(u32::MAX, |s| s.index));
                 let quad = |k: usize| match chosen.get(k).map(|s| &items[s.index as usize].kind) {
                     Some(Kind::Quad(quad)) => Some(*quad),
