@@ -245,10 +245,13 @@ fn every_light_sampling_setting_renders_cornell_as_bsdf_does_block_by_block() {
 #[test]
 fn guided_settings_render_cornell_as_bsdf_does_block_by_block() {
     let guiding = Some(Guiding { pilot: 16 });
-    assert_agree_with_bsdf("cornell", vec![
-        ("mis, guided", RenderSettings { guiding, ..at(64) }, 0.04),
-        ("bsdf, guided", RenderSettings { guiding, light_sampling: LightSampling::Bsdf, ..at(96) }, 0.10),
-    ]);
+    assert_agree_with_bsdf(
+        "cornell",
+        vec![
+            ("mis, guided", RenderSettings { guiding, ..at(64) }, 0.04),
+            ("bsdf, guided", RenderSettings { guiding, light_sampling: LightSampling::Bsdf, ..at(96) }, 0.10),
+        ],
+    );
 }
 
 /// Each of `cases` (a name, its settings, the bias it must be able to see in every block) of
