@@ -1,7 +1,8 @@
-//! The lit scenes' part of the error bench: `cornell` and `cornell-smoke` under the three
-//! `--light-sampling` settings (and mis with Russian roulette, and adaptive mis), each
-//! measured by the time it takes to reach the error that `bsdf` (the material's bounce only,
-//! the second book's estimator) reaches at 1,024 spp.
+//! The lit scenes' part of the error bench: `cornell`, `cornell-smoke` and `next-week` under
+//! the three `--light-sampling` settings (and mis with Russian roulette, adaptive mis, and
+//! mis and bsdf guided, `--guiding on` with its default pilot), each measured by the time it
+//! takes to reach the error that `bsdf` (the material's bounce only, the second book's
+//! estimator) reaches at 1,024 spp.
 //!
 //! Every render uses the Sobol sampler (the command line's default) on the work-stealing
 //! scheduler. The reference is `bsdf` at 2 × 8192 spp, two seeds, its own noise taken out of
@@ -14,6 +15,7 @@ use std::path::Path;
 
 use raypool::measure::plot::{LogSeries, log_log_plot};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::tracer::guiding::Guiding;
 use raypool::tracer::lights::LightSampling;
 use raypool::tracer::math::real::{Real, to_f64};
 use raypool::tracer::render::{Adaptive, RenderSettings, default_height};
@@ -22,14 +24,16 @@ use raypool::tracer::sampling::sampler::Sampler;
 use super::report::time_to_reach;
 use super::{PRECISION, Row, Setting, cached_reference, measure_rounds, read_csv, select, write_csv};
 
-pub const SCENES: [&str; 2] = ["cornell", "cornell-smoke"];
+pub const SCENES: [&str; 3] = ["cornell", "cornell-smoke", "next-week"];
 
-/// The uniform methods: (name, light sampling, Russian roulette).
-const METHODS: [(&str, LightSampling, bool); 4] = [
-    ("bsdf", LightSampling::Bsdf, false),
-    ("mixture", LightSampling::Mixture, false),
-    ("mis", LightSampling::Mis, false),
-    ("mis+rr", LightSampling::Mis, true),
+/// The uniform methods: (name, light sampling, Russian roulette, path guiding).
+const METHODS: [(&str, LightSampling, bool, bool); 6] = [
+    ("bsdf", LightSampling::Bsdf, false, false),
+    ("mixture", LightSampling::Mixture, false, false),
+    ("mis", LightSampling::Mis, false, false),
+    ("mis+rr", LightSampling::Mis, true, false),
+    ("mis+guided", LightSampling::Mis, false, true),
+    ("bsdf+guided", LightSampling::Bsdf, false, true),
 ];
 const ADAPTIVE: &str = "mis adaptive";
 const TARGETS: [Real; 5] = [0.2, 0.1, 0.05, 0.025, 0.0125];
@@ -83,8 +87,9 @@ pub fn measure(quick: bool, threads: usize, out_dir: &Path, footer: &str) {
         let at = Setting { scene: name, world: &world, base, reference: &reference, threads };
         let mut spp = 1;
         while spp <= config.goal_spp {
-            let methods = METHODS.map(|(method, light_sampling, roulette)| {
-                (method, RenderSettings { spp, light_sampling, roulette, ..base })
+            let methods = METHODS.map(|(method, light_sampling, roulette, guided)| {
+                let guiding = guided.then(|| Guiding::for_spp(spp));
+                (method, RenderSettings { spp, light_sampling, roulette, guiding, ..base })
             });
             measure_rounds(&mut rows, &at, f64::from(spp), &methods);
             spp *= 2;
@@ -118,7 +123,9 @@ pub fn report(out_dir: &Path, quick: bool) -> String {
          reference: `bsdf` (not an estimator whose speed is measured against it), two halves of different seeds, \
          its noise taken out. *bsdf* follows the material only; \
          *mixture* is the third book's 50/50 mixture of light and material; *mis* casts a shadow ray at every diffuse \
-         hit (by a chance at dim ones), weighed against the bounce by the power heuristic; *+rr*: Russian roulette after 4 rays; *adaptive*: \
+         hit (by a chance at dim ones), weighed against the bounce by the power heuristic; *+rr*: Russian roulette after 4 rays; \
+         *+guided*: `--guiding on` (passes of 1, 2, 4, … samples learn where light arrives, up to a quarter of the samples; \
+         half of the guided bounces drawn from what was learnt; `results/guiding.md`); *adaptive*: \
          `--target-error E --min-spp {min} --max-spp {goal_spp}`. Time = where the method's error-against-time curve \
          crosses bsdf's error at {goal_spp} spp (log–log between the runs around it); ratio = that ÷ bsdf's time at \
          {goal_spp} spp. Every setting takes 16 edge points per sample where a pixel may see the light (`--edge-spots`). \
