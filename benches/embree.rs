@@ -32,6 +32,7 @@ use raypool::measure::compare::metrics;
 use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::speedup::median;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
+use raypool::tracer::accel::isa::Isa;
 use raypool::tracer::geometry::hit::Hit;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, to_f32};
@@ -107,8 +108,20 @@ fn main() {
         if flags.is_empty() { "" } else { " --" },
         flags.concat()
     );
-    let triangles =
-        triangles::section(options.quick, &command, &Machine::current().describe(), &embree_version());
+    // The scene's mesh, then the same terrain at 768 × 768 cells (1,179,648 triangles; 384 ×
+    // 384 quick): a tree far larger than the caches.
+    let larger = if options.quick { 384 } else { 768 };
+    let triangles = [None, Some(larger)]
+        .map(|cells| {
+            triangles::section(
+                options.quick,
+                &command,
+                &Machine::current().describe(),
+                &embree_version(),
+                cells,
+            )
+        })
+        .join("\n");
     let report = format!("{spheres}\n{triangles}");
     std::fs::write(&options.out, &report)
         .unwrap_or_else(|e| panic!("cannot write {}: {e}", options.out.display()));
@@ -130,18 +143,27 @@ fn spheres(options: &Options) -> String {
         sampler: Sampler::Independent,
         ..RenderSettings::default()
     };
-    let job = RenderJob::new(scene, settings);
+    // raypool's own search at each vector level the CPU has (`RAYPOOL_ISA`), the widest
+    // first: the ratios are against it, the level a render picks by default.
+    let levels: Vec<Isa> = Isa::available().into_iter().rev().collect();
+    let jobs: Vec<RenderJob> =
+        levels.iter().map(|&isa| RenderJob::new(scene.clone().with_isa(isa), settings)).collect();
+    let job = &jobs[0];
     let embree: Vec<EmbreeSpheres> = Variant::ALL
         .iter()
         .map(|&v| EmbreeSpheres::new(job.scene.spheres(), v).unwrap_or_else(|e| panic!("{e}")))
         .collect();
 
-    // names[0] is raypool's own search; the others are Embree's, in Variant::ALL's order.
-    let mut names = vec!["raypool (its 4-wide tree and sphere test)"];
-    names.extend(Variant::ALL.iter().map(|v| v.name()));
-    let run = |k: usize| match k {
-        0 => render(&job, |ray| job.scene.hit(ray, Real::INFINITY)),
-        _ => render(&job, |ray| embree[k - 1].closest_hit(ray)),
+    // names[..levels.len()] are raypool's own search; the others are Embree's, in
+    // Variant::ALL's order.
+    let mut names: Vec<String> = levels
+        .iter()
+        .map(|isa| format!("raypool at {} (its 4-wide tree and sphere test)", isa.name()))
+        .collect();
+    names.extend(Variant::ALL.iter().map(|v| v.name().to_owned()));
+    let run = |k: usize| match jobs.get(k) {
+        Some(ours) => render(ours, |ray| ours.scene.hit(ray, Real::INFINITY)),
+        None => render(job, |ray| embree[k - jobs.len()].closest_hit(ray)),
     };
     let mut seconds = vec![Vec::new(); names.len()];
     let mut last: Vec<Option<Rendered>> = names.iter().map(|_| None).collect();
@@ -190,12 +212,15 @@ fn spheres(options: &Options) -> String {
     format!(
         "# raypool's closest-hit search against Intel Embree 3\n\n\
          The same path tracer (raypool's render loop, camera, materials and random numbers) finds\n\
-         its hits three ways; the image and ray count must agree, only the time differs.\n\
+         its hits several ways: raypool's own search at each vector level the CPU has\n\
+         (`RAYPOOL_ISA`; the widest, a render's default, first), and Embree's tree with Embree's\n\
+         sphere primitive or with raypool's sphere test. The image and ray count must agree,\n\
+         only the time differs.\n\
          `final` (486 spheres), {w} × {h}, {spp} spp, depth 50, seed 1, independent sampler, one thread,\n\
-         16 × 16 tiles in order; {rounds} rounds, the three in a rotating order in each.\n\n\
+         16 × 16 tiles in order; {rounds} rounds, all of them in a rotating order in each.\n\n\
          Machine: {machine}; Embree {embree} (Debian's `libembree-dev`, its own CPU dispatch).\n\
          Command: `cargo bench --bench embree --features embree{quick}`.\n\n\
-         | closest hit by | runs (s) | median (s) | Mrays/s | × raypool's rays/s (median of paired ratios) | rays | image RMSE against raypool's |\n\
+         | closest hit by | runs (s) | median (s) | Mrays/s | × raypool's rays/s at its widest level (median of paired ratios) | rays | image RMSE against raypool's |\n\
          |---|---|---:|---:|---:|---:|---:|\n\
          {table}\n\
          Two raypool images of seeds 1 and 2 differ by RMSE {noise:.1e} (the noise); every row is\n\

@@ -1,10 +1,11 @@
-//! Triangles against Embree 3 (`cargo bench --bench embree --features embree`, its second
-//! table): the `mesh` scene's 131,072-triangle mesh searched by raypool's own four-wide tree
-//! and watertight test ([`Mesh::closest`]) and by Embree's triangle tree
-//! (`RTC_GEOMETRY_TYPE_TRIANGLE`, built from the same positions and indices, build quality
-//! high, Embree's default scene flags), twice: on Embree's default device, which picks its
-//! code for the CPU at run time (AVX2 or AVX-512 and an eight-wide tree where the CPU has
-//! them), and on a device held to SSE2 (`isa=sse2`), the instruction set raypool is built for.
+//! Triangles against Embree 3 (`cargo bench --bench embree --features embree`, its
+//! triangle tables): the `mesh` scene's 131,072-triangle mesh, and its terrain again at 768 ×
+//! 768 cells (1,179,648 triangles, a tree past the caches), searched by raypool's own
+//! four-wide tree and watertight test ([`Mesh::closest`]) at each vector level the CPU has,
+//! and by Embree's triangle tree (`RTC_GEOMETRY_TYPE_TRIANGLE`, built from the same positions
+//! and indices, build quality high, Embree's default scene flags): on Embree's default device,
+//! which picks its code for the CPU at run time (AVX2 or AVX-512 and an eight-wide tree where
+//! the CPU has them), and on devices held to each level (`isa=sse2`, `avx2`, `avx512`).
 //!
 //! A second-book scene does not render through a swappable closest-hit function, so this
 //! compares the hit search itself, over a fixed ray set recorded once: a camera ray through a
@@ -33,6 +34,7 @@ use embree::sys::{
     rtcNewGeometry, rtcNewScene, rtcReleaseDevice, rtcReleaseGeometry, rtcReleaseScene,
     rtcSetNewGeometryBuffer, rtcSetSceneBuildQuality,
 };
+use raypool::scenes::assets::GeneratedMesh;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::tracer::accel::isa::Isa;
 use raypool::tracer::camera::Camera;
@@ -224,9 +226,21 @@ const EMBREE_DEVICES: [(&str, &str, &CStr, Option<&str>); 4] = [
 /// Runs the comparison and returns the results' section (Markdown). Panics where raypool and
 /// an Embree device disagree beyond the tolerance, or a timed pass counts a different number
 /// of hits.
-pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) -> String {
+pub fn section(
+    quick: bool,
+    command: &str,
+    machine: &str,
+    embree_version: &str,
+    cells: Option<u32>,
+) -> String {
     let (width, height, rounds) = if quick { (300, 200, 7) } else { (600, 400, 21) };
-    let scene = builtin_scene("mesh", DEFAULT_SCENE_SEED).expect("mesh exists").to_scene();
+    let mut file = builtin_scene("mesh", DEFAULT_SCENE_SEED).expect("mesh exists");
+    if let Some(cells) = cells {
+        if let Some(GeneratedMesh::Terrain { cells: c, .. }) = file.meshes[0].generate.as_mut() {
+            *c = cells;
+        }
+    }
+    let scene = file.to_scene();
     let mesh = scene
         .objects()
         .iter()
@@ -346,7 +360,7 @@ pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) 
         })
         .collect();
     format!(
-        "## Triangles: the `mesh` scene's mesh\n\n\
+        "## Triangles: {title}\n\n\
          raypool's mesh search ([`Mesh::closest`]: its own four-wide tree, leaves of 4 whose\n\
          watertight test runs in four SIMD lanes) against Embree's triangle geometry (`RTC_GEOMETRY_TYPE_TRIANGLE`, build\n\
          quality high, default scene flags, `rtcIntersect1` with an incoherent context), over\n\
@@ -372,6 +386,12 @@ pub fn section(quick: bool, command: &str, machine: &str, embree_version: &str) 
          (distances apart: by more than a relative 1e-4 and more than 16 f32 ulps of the ray\n\
          origin's magnitude): {checked}. The bench fails above {allowed}, a 1e-4 fraction of the\n\
          rays.\n",
+        title = match cells {
+            None => "the `mesh` scene's mesh".to_owned(),
+            Some(cells) => format!(
+                "the `mesh` scene's terrain at {cells} × {cells} cells, to see a tree past the caches"
+            ),
+        },
         tris = mesh.triangle_count(),
         bounces = rays.len() - camera_rays,
         n = rays.len(),
