@@ -52,6 +52,27 @@ impl Discipline {
     /// ```
     pub const ALL: [Discipline; 3] = [Discipline::Shared, Discipline::Locked, Discipline::Stealing];
 
+    /// Its name on a command line: `shared`, `locked`, `stealing`.
+    ///
+    /// ```
+    /// use pool::Discipline;
+    /// assert_eq!(Discipline::Stealing.name(), "stealing");
+    /// assert_eq!(Discipline::named("locked"), Some(Discipline::Locked));
+    /// assert_eq!(Discipline::named("lifo"), None);
+    /// ```
+    pub fn name(self) -> &'static str {
+        match self {
+            Discipline::Shared => "shared",
+            Discipline::Locked => "locked",
+            Discipline::Stealing => "stealing",
+        }
+    }
+
+    /// The discipline called `name` (one of [`Discipline::ALL`]'s names), if any.
+    pub fn named(name: &str) -> Option<Discipline> {
+        Discipline::ALL.into_iter().find(|d| d.name() == name)
+    }
+
     /// How this discipline's queue is made.
     ///
     /// ```

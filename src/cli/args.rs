@@ -272,15 +272,24 @@ fn builtin_name(name: &str) -> Result<&'static str, String> {
         .ok_or_else(|| format!("not a built-in scene (they are: {})", known()))
 }
 
+/// A queue discipline by name ([`pool::Discipline::name`]): the names come from the pool's
+/// own list, so a new discipline needs no line here.
+fn discipline(name: &str) -> Result<pool::Discipline, String> {
+    pool::Discipline::named(name).ok_or_else(|| {
+        let names: Vec<&str> = pool::Discipline::ALL.iter().map(|d| d.name()).collect();
+        format!("not a queue discipline (they are: {})", names.join(", "))
+    })
+}
+
 /// Options of `raypool grade`.
 #[derive(Debug, Args)]
 pub struct GradeArgs {
     /// The built-in mode to grade.
     #[arg(long, required_unless_present = "discipline", conflicts_with = "discipline")]
     pub mode: Option<Schedule>,
-    /// The built-in queue discipline to grade.
-    #[arg(long, value_parser = ["shared", "locked", "stealing"])]
-    pub discipline: Option<String>,
+    /// The built-in queue discipline to grade: shared, locked or stealing.
+    #[arg(long, value_parser = discipline)]
+    pub discipline: Option<pool::Discipline>,
     /// Thread counts, rounds, report file.
     #[command(flatten)]
     pub options: Options,

@@ -8,18 +8,14 @@ use crate::measure::grade::{Entry, Submission, command_line, grade_and_report};
 
 /// Runs `raypool grade`.
 pub fn run(args: &GradeArgs) -> Result<(), Error> {
-    let submission = match (&args.mode, args.discipline.as_deref()) {
+    let submission = match (&args.mode, args.discipline) {
         (Some(mode), _) => {
             Submission { name: format!("mode {}", mode.name()), entry: Entry::Scheduler(mode) }
         }
-        (None, Some(name)) => {
-            let discipline = match name {
-                "locked" => pool::Discipline::Locked,
-                "stealing" => pool::Discipline::Stealing,
-                _ => pool::Discipline::Shared,
-            };
-            Submission { name: format!("discipline {name}"), entry: Entry::Queue(discipline.queue()) }
-        }
+        (None, Some(discipline)) => Submission {
+            name: format!("discipline {}", discipline.name()),
+            entry: Entry::Queue(discipline.queue()),
+        },
         (None, None) => {
             return Err(Error::new("raypool grade: name a submission: --mode or --discipline"));
         }
