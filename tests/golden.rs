@@ -88,7 +88,7 @@ fn every_builtin_scene_renders_the_bytes_it_rendered_before() {
 }
 
 /// The vector instructions change no bit: every golden image, searched with each level this
-/// CPU offers below its best (the test above renders at the best), hashes as blessed. A CPU
+/// CPU offers other than the default (the test above renders at `Isa::best`), hashes as blessed. A CPU
 /// without AVX2 or AVX-512 checks fewer levels, and says which.
 #[test]
 fn every_isa_level_renders_the_golden_bytes() {

@@ -14,8 +14,8 @@
 
 use std::fmt;
 
-/// The widest vector instructions a search may use: the best the CPU offers by default, or a
-/// lower level asked for by name (`RAYPOOL_ISA`, for tests and benchmarks).
+/// The widest vector instructions a search may use: [`Isa::best`] by default, or another
+/// level asked for by name (`RAYPOOL_ISA`, for tests and benchmarks).
 ///
 /// ```
 /// use raypool::tracer::accel::isa::Isa;
@@ -44,9 +44,11 @@ impl Isa {
     /// The names [`Isa::named`] takes, lowest first.
     pub const NAMES: [&'static str; 3] = ["sse2", "avx2", "avx512"];
 
-    /// The widest level this CPU offers.
+    /// The level a search uses unless told otherwise: AVX2 where the CPU has it, else the
+    /// baseline. Not AVX-512: the trees are four wide, so its wider registers buy nothing, and
+    /// on this project's AMD EPYC the sphere tree ran slower with it (`results/embree.md`).
     pub fn best() -> Isa {
-        Isa::available().pop().expect("the baseline is always available")
+        Isa::named("avx2").unwrap_or(Isa::BASELINE)
     }
 
     /// Every level this CPU offers, lowest first (the baseline always).
@@ -105,7 +107,7 @@ impl PartialEq for Isa {
 impl Eq for Isa {}
 
 impl Default for Isa {
-    /// The widest level this CPU offers.
+    /// [`Isa::best`].
     fn default() -> Isa {
         Isa::best()
     }
