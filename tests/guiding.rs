@@ -11,7 +11,7 @@ mod deadline;
 
 use std::sync::Arc;
 
-use chi_squared::{Cone, assert_fits};
+use chi_squared::{Cone, assert_fits, front_hit};
 use deadline::within;
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
@@ -20,7 +20,6 @@ use raypool::scenes::builtin::builtin_scene;
 use raypool::schedule::frame::Frame;
 use raypool::schedule::modes::{Schedule, render};
 use raypool::schedule::random::{RngChoice, RngSource};
-use raypool::tracer::geometry::hit::Hit;
 use raypool::tracer::guiding::Guiding;
 use raypool::tracer::guiding::bounce::{GUIDED_SHARE, guided_bounce};
 use raypool::tracer::guiding::guide::Guide;
@@ -132,17 +131,7 @@ fn the_guide_draws_directions_by_the_density_it_states() {
 #[test]
 fn the_guided_bounce_draws_the_mixture_of_the_guide_and_the_material() {
     let guide = trained();
-    let hit = Hit {
-        t: 1.0,
-        point: POINT,
-        normal: UP,
-        front_face: true,
-        material: 0,
-        offset: 0.0,
-        lift: 0.0,
-        u: 0.0,
-        v: 0.0,
-    };
+    let hit = front_hit(POINT, UP);
     let directions = guide.directions(POINT, facing(Some(UP)));
     let share = f64::from(GUIDED_SHARE);
     let mixture = move |d: Vec3| {

@@ -11,11 +11,10 @@
 mod chi_squared;
 mod rooms;
 
-use chi_squared::{Cone, assert_fits};
+use chi_squared::{Cone, assert_fits, front_hit};
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
 use raypool::scenes::format::SceneFile;
-use raypool::tracer::geometry::hit::Hit;
 use raypool::tracer::lights::emission::emitted_direction;
 use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::sampling::warp::random_unit_vector;
@@ -70,17 +69,7 @@ fn the_phase_function_draws_every_direction_alike() {
 fn the_diffuse_bounce_and_a_light_paths_first_direction_follow_the_cosine() {
     let normal = Vec3::new(0.3, -0.5, 0.81).normalize();
     let cosine = move |d: Vec3| f64::from(d.dot(normal).max(0.0)) / std::f64::consts::PI;
-    let hit = Hit {
-        t: 1.0,
-        point: Vec3::ZERO,
-        normal,
-        front_face: true,
-        material: 0,
-        offset: 0.0,
-        lift: 0.0,
-        u: 0.0,
-        v: 0.0,
-    };
+    let hit = front_hit(Vec3::ZERO, normal);
     let white = Material::Lambertian { albedo: Vec3::ONE };
     let textures = Textures::default();
     assert_draws_follow(

@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
+use raypool::tracer::geometry::hit::Hit;
 use raypool::tracer::math::real::{Real, Vec3};
 
 const TAU: f64 = std::f64::consts::TAU;
@@ -166,4 +167,9 @@ fn erfc(x: f64) -> f64 {
     let sum = poly.iter().rev().fold(0.0, |acc, c| acc * t + c);
     let r = t * (-x * x + sum).exp();
     if x >= 0.0 { r } else { 2.0 - r }
+}
+
+/// A hit on the front of a surface at `point`, facing `normal`: where a bounce is drawn from.
+pub fn front_hit(point: Vec3, normal: Vec3) -> Hit {
+    Hit { t: 1.0, point, normal, front_face: true, material: 0, offset: 0.0, lift: 0.0, u: 0.0, v: 0.0 }
 }
