@@ -232,7 +232,6 @@ fn bad_command_lines_exit_2() {
         (vec!["view", "--threads", "0"], "0 is not in 1..=4096"),
         (vec!["view", "--bind", "not-an-address"], "--bind"),
         (vec!["view", "--target-error", "0.1"], "not adaptive sampling"),
-        (vec!["view", "--guiding", "on"], "learn no guide"),
     ] {
         let out =
             output_within(Command::new(env!("CARGO_BIN_EXE_raypool")).args(&args), "`raypool view` to exit");

@@ -175,7 +175,7 @@ fn refusal(
     if renderer == Renderer::Viewer && adaptive {
         return Some("the viewer renders progressive passes, not adaptive sampling".into());
     }
-    if let Some(refused) = guiding_refusal(args, integrator, adaptive, renderer) {
+    if let Some(refused) = guiding_refusal(args, integrator, adaptive) {
         return Some(refused.into());
     }
     let bidir_refuses = if adaptive { Some("--target-error") } else { args.roulette.then_some("--roulette") };
@@ -188,12 +188,7 @@ fn refusal(
 }
 
 /// The combinations `--guiding` and `--guide-pilot` are refused in, and why.
-fn guiding_refusal(
-    args: &ImageArgs,
-    integrator: Integrator,
-    adaptive: bool,
-    renderer: Renderer,
-) -> Option<&'static str> {
+fn guiding_refusal(args: &ImageArgs, integrator: Integrator, adaptive: bool) -> Option<&'static str> {
     let guided = args.guiding == Switch::On;
     if !guided {
         return args
@@ -211,9 +206,6 @@ fn guiding_refusal(
         _ if adaptive => Some(
             "--guiding on learns in passes over every pixel, --target-error gives each pixel its own count: use one or the other",
         ),
-        _ if renderer == Renderer::Viewer => {
-            Some("the viewer's progressive passes learn no guide (yet): use raypool render --guiding on")
-        }
         _ => None,
     }
 }

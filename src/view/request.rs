@@ -10,7 +10,8 @@
 //! `denoise=1|0` (denoise those frames; on until a request turns it off) and a pasted scene
 //! in the body. A request that names neither `scene` nor a pasted scene keeps
 //! the current scene, camera included, and its built world (a camera move rebuilds no tree);
-//! `height=auto` returns to the scene's aspect.
+//! `height=auto` returns to the scene's aspect, and `guiding=off` drops a `--guide-pilot` in
+//! effect.
 //! Parameters that would reach outside the page are refused: `scene-file` (a path on the
 //! server), `port`, `bind`, and adaptive sampling, which progressive passes do not do.
 
@@ -18,7 +19,7 @@ use std::sync::Arc;
 
 use clap::{CommandFactory as _, FromArgMatches as _};
 
-use crate::cli::args::{ViewArgs, one_line};
+use crate::cli::args::{Switch, ViewArgs, one_line};
 use crate::cli::settings::{load_scene, render_job, render_settings, scene_name, worker_threads};
 use crate::cli::transport::Renderer;
 use crate::error::Error;
@@ -96,6 +97,7 @@ const REFUSED: &[(&str, &str)] = &[
 pub fn parse(query: &str, body: &str, current: &Config) -> Result<Config, Error> {
     let mut argv = vec!["view".to_string()];
     let (mut lookfrom, mut roulette, mut names_scene, mut auto_height) = (None, None, false, false);
+    let mut names_pilot = false;
     let (mut preview, mut denoise) = (false, current.denoise);
     for (name, value) in form_urlencoded::parse(query.as_bytes()) {
         if let Some((_, why)) = REFUSED.iter().find(|(refused, _)| *refused == name) {
@@ -111,6 +113,7 @@ pub fn parse(query: &str, body: &str, current: &Config) -> Result<Config, Error>
             "roulette" => roulette = Some(on_or_off(name.as_ref(), &value)?),
             _ => {
                 names_scene |= name == "scene" || name == "scene-seed";
+                names_pilot |= name == "guide-pilot";
                 argv.extend([format!("--{name}"), value.into_owned()]);
             }
         }
@@ -127,6 +130,10 @@ pub fn parse(query: &str, body: &str, current: &Config) -> Result<Config, Error>
     }
     if auto_height {
         args.image.height = None;
+    }
+    // `guiding=off` drops the pilot in effect, which without guiding would be refused.
+    if args.image.guiding == Switch::Off && !names_pilot {
+        args.image.guide_pilot = None;
     }
     let scene = if !body.trim().is_empty() {
         Some(("pasted scene".to_string(), SceneFile::parse(body, "pasted scene")?))

@@ -9,6 +9,11 @@
 //! `MAX_JOB_SAMPLES`) up to `--spp`, each pass one batch of tiles on the chosen scheduler; every
 //! finished tile becomes an event for the pages, and every finished pass becomes the image that
 //! `/image.pfm` serves, which is the image `raypool render` makes at that many samples.
+//! Guided (`--guiding on`), the passes follow `render`'s plan ([`crate::schedule::guided`]):
+//! none spans two of its passes, and each draws from its pass's guide and learns into its
+//! statistics, so the last pass's image is `render`'s (an earlier one holds the same samples,
+//! but `render --spp` of that many learns in none of its last pass, which may change pixels);
+//! a new render (a camera move, any setting) learns its guides from the start.
 //! A render asked for while the camera moves starts with a navigation frame instead
 //! ([`crate::view::preview`]): a small 1-spp frame first, the passes once the camera rests.
 //!
@@ -28,6 +33,7 @@ use serde_json::json;
 use crate::files::image::Image;
 use crate::files::output::{Format, encode};
 use crate::schedule::frame::Frame;
+use crate::schedule::guided::Plan;
 use crate::schedule::kept::KeptPool;
 use crate::schedule::modes::render;
 use crate::schedule::progressive::{Cancel, Pass, Sums};
@@ -343,55 +349,58 @@ impl Session {
         let started = Instant::now();
         let (mut done, mut pass) = (0, 0);
         let splatted = settings.light_sampling == LightSampling::Bdpt;
-        while done < settings.spp && !cancel.is_cancelled() {
-            // A job renders a tile, or a whole row in the row modes.
-            let job_pixels = (config.tile * config.tile).max(settings.width);
-            let pass_most = (MAX_JOB_SAMPLES / job_pixels).max(1);
-            let more = if done == 0 { 1 } else { done.min(pass_most).min(settings.spp - done) };
-            pass += 1;
-            let lanes: Arc<Mutex<Vec<ThreadId>>> = Arc::default();
-            let hook = {
-                let (session, lanes) = (Arc::clone(self), Arc::clone(&lanes));
-                Arc::new(move |out: &TileOutput| {
-                    if let Some(event) = tile_event(generation, pass, done + more, out, &lanes) {
-                        session.broadcast(Kind::Tile { pass }, event);
-                    }
-                })
-            };
-            let frame = Frame::new(
-                Arc::clone(&config.job),
-                rng.clone(),
-                config.threads,
-                config.tile,
-                Arc::new(|_| {}),
-            )
-            .with_pass(Pass { samples: done..done + more, sums: Arc::clone(&sums), counts: None })
-            .with_cancel(cancel.clone())
-            .with_tile_hook(hook);
-            let pass_start = Instant::now();
-            let rendered = render(&Arc::new(frame), &self.pool.with_mode(config.mode));
-            if cancel.is_cancelled() {
-                return;
+        // A job renders a tile, or a whole row in the row modes.
+        let job_pixels = (config.tile * config.tile).max(settings.width);
+        let pass_most = (MAX_JOB_SAMPLES / job_pixels).max(1);
+        // `render`'s passes (one of every sample unless guided), each cut into ours.
+        let mut plan = Plan::new(&config.job.scene, settings.spp, settings.guiding);
+        while let Some(guided) = plan.next_pass() {
+            let job = Arc::new(guided.job(&config.job, true));
+            while done < guided.samples.end {
+                if cancel.is_cancelled() {
+                    return;
+                }
+                let more = if done == 0 { 1 } else { done.min(pass_most).min(guided.samples.end - done) };
+                pass += 1;
+                let lanes: Arc<Mutex<Vec<ThreadId>>> = Arc::default();
+                let hook = {
+                    let (session, lanes) = (Arc::clone(self), Arc::clone(&lanes));
+                    Arc::new(move |out: &TileOutput| {
+                        if let Some(event) = tile_event(generation, pass, done + more, out, &lanes) {
+                            session.broadcast(Kind::Tile { pass }, event);
+                        }
+                    })
+                };
+                let frame =
+                    Frame::new(Arc::clone(&job), rng.clone(), config.threads, config.tile, Arc::new(|_| {}))
+                        .with_pass(Pass { samples: done..done + more, sums: Arc::clone(&sums), counts: None })
+                        .with_cancel(cancel.clone())
+                        .with_tile_hook(hook);
+                let pass_start = Instant::now();
+                let rendered = render(&Arc::new(frame), &self.pool.with_mode(config.mode));
+                if cancel.is_cancelled() {
+                    return;
+                }
+                done += more;
+                let seconds = pass_start.elapsed().as_secs_f64();
+                let (rays, imbalance) = (rendered.rays, rendered.imbalance());
+                let snapshot = Arc::new(Snapshot { generation, spp: done, image: rendered.image });
+                *self.latest.lock() = Some(Arc::clone(&snapshot));
+                if splatted {
+                    // bdpt's light paths lit pixels of other tiles than their own, which the
+                    // tiles' events do not show: the whole image, once per pass, does.
+                    self.broadcast(Kind::Frame, self.frame_event_of(&snapshot).to_string());
+                }
+                self.broadcast(
+                    Kind::Pass,
+                    json!({
+                        "type": "pass", "gen": generation, "pass": pass, "spp": done, "seconds": seconds,
+                        "elapsed": started.elapsed().as_secs_f64(), "rays": rays,
+                        "mrays": rays as f64 / seconds.max(1e-9) / 1e6, "imbalance": imbalance,
+                    })
+                    .to_string(),
+                );
             }
-            done += more;
-            let seconds = pass_start.elapsed().as_secs_f64();
-            let (rays, imbalance) = (rendered.rays, rendered.imbalance());
-            let snapshot = Arc::new(Snapshot { generation, spp: done, image: rendered.image });
-            *self.latest.lock() = Some(Arc::clone(&snapshot));
-            if splatted {
-                // bdpt's light paths lit pixels of other tiles than their own, which the
-                // tiles' events do not show: the whole image, once per pass, does.
-                self.broadcast(Kind::Frame, self.frame_event_of(&snapshot).to_string());
-            }
-            self.broadcast(
-                Kind::Pass,
-                json!({
-                    "type": "pass", "gen": generation, "pass": pass, "spp": done, "seconds": seconds,
-                    "elapsed": started.elapsed().as_secs_f64(), "rays": rays,
-                    "mrays": rays as f64 / seconds.max(1e-9) / 1e6, "imbalance": imbalance,
-                })
-                .to_string(),
-            );
         }
         if !cancel.is_cancelled() {
             self.broadcast(Kind::Done, json!({ "type": "done", "gen": generation, "spp": done }).to_string());
