@@ -9,6 +9,7 @@
 mod chi_squared;
 mod deadline;
 
+use std::ops::Range;
 use std::sync::Arc;
 
 use chi_squared::{Cone, assert_fits, front_hit};
@@ -18,13 +19,15 @@ use rand::rngs::SmallRng;
 use raypool::files::image::Image;
 use raypool::scenes::builtin::builtin_scene;
 use raypool::schedule::frame::Frame;
-use raypool::schedule::modes::{Schedule, render};
+use raypool::schedule::modes::{Schedule, Scheduler, render};
+use raypool::schedule::progressive::{Pass, Sums};
 use raypool::schedule::random::{RngChoice, RngSource};
-use raypool::tracer::guiding::Guiding;
 use raypool::tracer::guiding::bounce::{GUIDED_SHARE, guided_bounce};
 use raypool::tracer::guiding::guide::Guide;
 use raypool::tracer::guiding::learning::Learning;
 use raypool::tracer::guiding::spatial::facing;
+use raypool::tracer::guiding::{Guiding, bounds};
+use raypool::tracer::lights::LightSampling;
 use raypool::tracer::math::aabb::Aabb;
 use raypool::tracer::math::real::{Real, Vec3, to_f64};
 use raypool::tracer::render::{RenderJob, RenderSettings};
@@ -233,5 +236,46 @@ fn a_scene_without_lights_renders_as_without_guiding() {
             bits(&render(&Arc::new(frame), &Schedule::Stealing).image)
         };
         assert!(at(Some(Guiding { pilot: 2 })) == at(None), "final changed under --guiding on");
+    });
+}
+
+/// A pass draws the same numbers whether it learns or not: learning only records what the
+/// paths found, so samples 0..4 of cornell, with no guide and then with one learnt from
+/// sample 0, are the same bits with statistics gathered or not (under `bsdf` with roulette,
+/// a learning pass once switched to the light's numbers before the roulette's draw; the
+/// viewer's passes learn where `render`'s last pass does not).
+#[test]
+fn a_pass_draws_the_same_numbers_whether_it_learns_or_not() {
+    within("the passes to render", || {
+        let scene = builtin_scene("cornell", 0).unwrap().to_scene();
+        for (light_sampling, roulette) in [(LightSampling::Bsdf, true), (LightSampling::Mis, true)] {
+            let settings = RenderSettings {
+                width: 24,
+                height: 24,
+                spp: 4,
+                max_depth: 10,
+                light_sampling,
+                roulette,
+                ..Default::default()
+            };
+            let rng = RngSource::new(&settings, RngChoice::PerSample);
+            let frame = Frame::new(RenderJob::new(scene.clone(), settings), rng, 2, 8, Arc::new(|_| {}));
+            let pass = |samples: Range<u32>, guide: Option<Arc<Guide>>, learning: Option<Arc<Learning>>| {
+                let job = frame.job().guided(guide, learning);
+                let pass = Pass { samples, sums: Sums::default(), counts: None };
+                let frame = Arc::new(frame.clone().with_job(job).with_pass(pass));
+                bits(&frame.assemble(&Schedule::Stealing.render(&frame)).expect("every tile"))
+            };
+            let learning = Arc::new(Learning::new(bounds(&scene), 1));
+            let learns = pass(0..1, None, Some(Arc::clone(&learning)));
+            assert!(learns == pass(0..1, None, None), "{light_sampling:?}: learning changed the first pass");
+            let guide = Arc::new(learning.finish());
+            let learning = Some(Arc::new(Learning::after(&guide, 3)));
+            let learns = pass(1..4, Some(Arc::clone(&guide)), learning);
+            assert!(
+                learns == pass(1..4, Some(guide), None),
+                "{light_sampling:?}: learning changed a guided pass"
+            );
+        }
     });
 }

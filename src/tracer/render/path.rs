@@ -112,7 +112,11 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
             // (and count the light they find with the material's own attenuation).
             let drawn = (guiding && guides(n, path.aiming))
                 .then(|| guided_bounce(guide, &hit, lobe, &mut scatter.direction, rng));
-            rng.light(n - 1);
+            // The light's numbers only where lights are aimed at: under `bsdf` a pass that
+            // learns (and so has a lobe) must draw what one that does not draws.
+            if path.aiming != LightSampling::Bsdf {
+                rng.light(n - 1);
+            }
             match path.aiming {
                 LightSampling::Mis if n < settings.max_depth => {
                     path.sample_lights(&hit, lobe, &scatter, cast, rng, rays);
