@@ -43,7 +43,12 @@ fn reference(scene: &str) -> Option<Vec<f64>> {
     let base = format!("target/error-reference/{scene}-bsdf-sobol-96x96-8192-");
     let load = |half: &str| read_pfm(&std::fs::read(format!("{base}{half}.pfm")).ok()?).ok();
     let ((_, _, a), (_, _, b)) = (load("a")?, load("b")?);
-    Some(a.iter().zip(&b).flat_map(|(x, y)| (0..3).map(move |c| (f64::from(x[c]) + f64::from(y[c])) / 2.0)).collect())
+    Some(
+        a.iter()
+            .zip(&b)
+            .flat_map(|(x, y)| (0..3).map(move |c| (f64::from(x[c]) + f64::from(y[c])) / 2.0))
+            .collect(),
+    )
 }
 
 fn squared_error(image: &Image, reference: &[f64]) -> f64 {
@@ -99,7 +104,9 @@ fn per_sample(quick: bool) {
     );
     for scene in ["cornell", "cornell-smoke", "next-week"] {
         let Some(reference) = reference(scene) else {
-            println!("| {scene} | – | – | no reference: run `cargo bench --bench error -- --only lights` | – |");
+            println!(
+                "| {scene} | – | – | no reference: run `cargo bench --bench error -- --only lights` | – |"
+            );
             continue;
         };
         for light_sampling in [LightSampling::Mis, LightSampling::Bsdf] {
@@ -157,7 +164,8 @@ fn memory(quick: bool) {
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
-    let command = if quick { "cargo bench --bench guiding -- --quick" } else { "cargo bench --bench guiding" };
+    let command =
+        if quick { "cargo bench --bench guiding -- --quick" } else { "cargo bench --bench guiding" };
     println!("`{command}`; {}\n", Machine::current().describe());
     per_sample(quick);
     memory(quick);
