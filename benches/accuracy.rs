@@ -16,6 +16,7 @@ use raypool::measure::agreement::{BLOCK_Z, WHOLE_Z, compare, over_seeds, renders
 use raypool::measure::machine::{Machine, cpus, results_dir};
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::scenes::format::SceneFile;
+use raypool::tracer::guiding::Guiding;
 use raypool::tracer::lights::LightSampling;
 use raypool::tracer::render::{Adaptive, RenderSettings};
 use raypool::tracer::sampling::sampler::Sampler;
@@ -25,6 +26,8 @@ use raypool::tracer::scene::Scene;
 fn settings(spp: u32, depth: u32) -> Vec<(&'static str, RenderSettings)> {
     let mis = RenderSettings { width: 64, height: 64, spp, max_depth: depth, ..Default::default() };
     let adaptive = Some(Adaptive { target_error: 0.05, min_spp: spp / 4 });
+    // Path guiding learns in passes up to a quarter of the samples (`--guiding on`'s default).
+    let guiding = Some(Guiding::for_spp(spp));
     vec![
         ("mis", mis),
         ("mis, independent", RenderSettings { sampler: Sampler::Independent, ..mis }),
@@ -33,6 +36,8 @@ fn settings(spp: u32, depth: u32) -> Vec<(&'static str, RenderSettings)> {
         ("mis, adaptive", RenderSettings { adaptive, spp: 2 * spp, ..mis }),
         ("mixture", RenderSettings { light_sampling: LightSampling::Mixture, ..mis }),
         ("bdpt", RenderSettings { light_sampling: LightSampling::Bdpt, spp: spp / 2, ..mis }),
+        ("mis, guided", RenderSettings { guiding, ..mis }),
+        ("bsdf, guided", RenderSettings { guiding, light_sampling: LightSampling::Bsdf, ..mis }),
     ]
 }
 
@@ -62,14 +67,15 @@ fn main() {
     let mut md = format!(
         "# Accuracy: every light-transport setting against `bsdf`\n\n\
          Per scene, 64 × 64, depth 50 (the lit room 8): a `bsdf` reference of {reference_seeds} seeds × 1,024 spp, then each \
-         setting over {seeds} other seeds ({spp} spp; adaptive up to {}, bdpt {}). Standard errors from the \
+         setting over {seeds} other seeds ({spp} spp; adaptive up to {}, bdpt {}; guided: `--guiding on`, learning passes up to {}). Standard errors from the \
          spread between seeds, both sides combined. *Detectable* is the smallest bias the comparison would \
          see ({BLOCK_Z} standard errors in the weakest block; {WHOLE_Z} for the whole image). Every row must \
          read `yes`: blocks within {BLOCK_Z}, the whole within {WHOLE_Z}.\n\n\
          | scene | setting | whole bias ± SE | detectable (whole) | worst block \\|z\\| | detectable (weakest block) | agrees |\n\
          |---|---|---:|---:|---:|---:|---|\n",
         2 * spp,
-        spp / 2
+        spp / 2,
+        spp / 4
     );
     for (name, scene, depth) in scenes(&args) {
         let bsdf = RenderSettings {
