@@ -12,8 +12,8 @@
 //! Guided (`--guiding on`), the passes follow `render`'s plan ([`crate::schedule::guided`]):
 //! none spans two of its passes, and each draws from its pass's guide and learns into its
 //! statistics, so the last pass's image is `render`'s (an earlier one holds the same samples,
-//! but `render --spp` of that many learns in none of its last pass, which may change pixels);
-//! a new render (a camera move, any setting) learns its guides from the start.
+//! but `render --spp` of that many plans passes of its own); a new render (a camera move, any
+//! setting) learns its guides from the start.
 //! A render asked for while the camera moves starts with a navigation frame instead
 //! ([`crate::view::preview`]): a small 1-spp frame first, the passes once the camera rests.
 //!
