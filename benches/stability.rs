@@ -4,7 +4,8 @@
 //! `raypool::measure::stress_shapes` (leaks through the seams of closed meshes and boxes, acne
 //! on quads and triangles far from the origin, thin boxes met by grazing rays, each also through
 //! an instance) and of `raypool::measure::stress_smooth` (bounces off a mesh shaded by its
-//! vertex normals that meet it again) at `RAYPOOL_SHAPE_RAYS` rays a case (10⁶ unless set). Writes
+//! vertex normals that meet it again) at `RAYPOOL_SHAPE_RAYS` rays a case (10⁶ unless set), at
+//! every vector level the CPU has (`RAYPOOL_ISA`'s sse2, avx2, avx512). Writes
 //! `results/stability-f32.csv` and `results/stability-shapes-f32.csv` (or `-f64` with
 //! `--features f64`) and `results/stability.md` from whichever of them exist.
 
@@ -12,7 +13,9 @@ use std::fmt::Write as _;
 
 use raypool::measure::machine::{Machine, results_dir};
 use raypool::measure::stress::cases;
+use raypool::measure::stress_shapes::Row;
 use raypool::measure::{stress_shapes, stress_smooth};
+use raypool::tracer::accel::isa::Isa;
 use raypool::tracer::geometry::sphere::Intersection;
 
 const PRECISION: &str = if cfg!(feature = "f64") { "f64" } else { "f32" };
@@ -37,10 +40,26 @@ fn main() {
     std::fs::write(dir.join(format!("stability-{PRECISION}.csv")), &csv).expect("results/ is writable");
     let rays = std::env::var("RAYPOOL_SHAPE_RAYS").ok().and_then(|n| n.parse().ok()).unwrap_or(1_000_000);
     let mut shapes = String::from("case,precision,rays,failures,detail\n");
-    for row in stress_shapes::table(rays).into_iter().chain(stress_smooth::rows(rays)) {
-        eprintln!("{} {PRECISION}: {}", row.case, row.detail);
-        let _ =
-            writeln!(shapes, "\"{}\",{PRECISION},{},{},\"{}\"", row.case, row.rays, row.failures, row.detail);
+    // Every case at every vector level the CPU has (`RAYPOOL_ISA`): one row, its failures the
+    // most of any level, its detail the levels' own where they differ.
+    let levels = Isa::available();
+    let per_level: Vec<Vec<Row>> = levels
+        .iter()
+        .map(|&isa| {
+            stress_shapes::table(rays, isa).into_iter().chain(stress_smooth::rows(rays, isa)).collect()
+        })
+        .collect();
+    let names: Vec<&str> = levels.iter().map(|isa| isa.name()).collect();
+    for (k, row) in per_level[0].iter().enumerate() {
+        let details: Vec<&str> = per_level.iter().map(|rows| rows[k].detail.as_str()).collect();
+        let detail = if details.iter().all(|d| *d == row.detail) {
+            format!("{} (the same at {})", row.detail, names.join(", "))
+        } else {
+            names.iter().zip(&details).map(|(isa, d)| format!("{isa}: {d}")).collect::<Vec<_>>().join("; ")
+        };
+        let failures = per_level.iter().map(|rows| rows[k].failures).max().unwrap_or(0);
+        eprintln!("{} {PRECISION}: {detail}", row.case);
+        let _ = writeln!(shapes, "\"{}\",{PRECISION},{},{failures},\"{detail}\"", row.case, row.rays);
     }
     std::fs::write(dir.join(format!("stability-shapes-{PRECISION}.csv")), &shapes)
         .expect("results/ is writable");
@@ -100,7 +119,8 @@ fn shapes_section(dir: &std::path::Path) -> String {
     let mut md = format!(
         "\n## Quads, triangles and instances, ray by ray\n\n\
          `cargo bench --bench stability [--features f64]`; {}.\n\n\
-         Counted ray by ray (`src/measure/stress_shapes.rs`), each case from a fixed seed. **leaks**: rays from \
+         Counted ray by ray (`src/measure/stress_shapes.rs`), each case from a fixed seed, at every vector level \
+         this CPU has (the detail says whether the levels' counts are the same). **leaks**: rays from \
          outside aimed exactly at a random point of a shared edge, or at a shared vertex, of a closed solid (never \
          grazing a face it lies on) that miss it entirely. **acne**: a tilted quad or triangle (unit-sized) far from \
          the origin, hit from either side; from each hit one ray is spawned (`Hit::spawn`) back to the hit's side \

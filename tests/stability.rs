@@ -14,6 +14,7 @@ use raypool::measure::stress::{StressCase, cases};
 use raypool::measure::stress_shapes::{self, Aim, Flat, Solid};
 use raypool::measure::stress_smooth;
 use raypool::scenes::builtin::builtin_scene;
+use raypool::tracer::accel::isa::Isa;
 use raypool::tracer::geometry::sphere::Intersection;
 use raypool::tracer::math::real::to_dvec3;
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
@@ -112,12 +113,15 @@ fn the_textbook_method_fails_where_raypool_does_not() {
 
 #[test]
 fn rays_at_the_seams_of_a_closed_triangle_mesh_never_slip_through() {
-    within("2·10⁴ rays at each kind of seam to be traced", move || {
-        for placed in [false, true] {
+    within("2·10⁴ rays at each kind of seam, at every vector level, to be traced", move || {
+        for (isa, placed) in Isa::available().into_iter().flat_map(|isa| [(isa, false), (isa, true)]) {
             for solid in [Solid::Icosphere, Solid::TriangleCube] {
                 for aim in [Aim::Edges, Aim::Vertices] {
-                    let leaks = stress_shapes::leaks(solid, aim, placed, 20_000);
-                    assert_eq!(leaks, 0, "{solid:?} at its {aim:?}, through an instance: {placed}");
+                    let leaks = stress_shapes::leaks(solid, aim, placed, 20_000, isa);
+                    assert_eq!(
+                        leaks, 0,
+                        "{solid:?} at its {aim:?} at {isa:?}, through an instance: {placed}"
+                    );
                 }
             }
         }
@@ -126,11 +130,15 @@ fn rays_at_the_seams_of_a_closed_triangle_mesh_never_slip_through() {
 
 #[test]
 fn quads_and_triangles_1e4_from_the_origin_show_no_acne() {
-    within("2·10⁴ hits and their spawned rays to be traced", move || {
-        for placed in [false, true] {
+    within("2·10⁴ hits and their spawned rays, at every vector level, to be traced", move || {
+        for (isa, placed) in Isa::available().into_iter().flat_map(|isa| [(isa, false), (isa, true)]) {
             for flat in [Flat::Quad, Flat::Triangle] {
-                let a = stress_shapes::acne(flat, 1e4, placed, 20_000);
-                assert_eq!(a, stress_shapes::Acne::default(), "{flat:?}, through an instance: {placed}");
+                let a = stress_shapes::acne(flat, 1e4, placed, 20_000, isa);
+                assert_eq!(
+                    a,
+                    stress_shapes::Acne::default(),
+                    "{flat:?} at {isa:?}, through an instance: {placed}"
+                );
             }
         }
     });
@@ -140,7 +148,7 @@ fn quads_and_triangles_1e4_from_the_origin_show_no_acne() {
 fn bounces_off_a_mesh_shaded_by_its_vertex_normals_never_meet_it_again() {
     within("2·10⁴ bounces off the smooth icosphere to be traced", move || {
         for placed in [false, true] {
-            let s = stress_smooth::self_hits(3, placed, 20_000);
+            let s = stress_smooth::self_hits(3, placed, 20_000, Isa::best());
             assert_eq!((s.missed, s.from_departure), (0, 0), "through an instance: {placed}");
             // The case bites: from the flat facets, some of the same bounces do meet it.
             assert!(s.from_facet > 0, "through an instance: {placed}: {s:?}");

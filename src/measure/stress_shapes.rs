@@ -13,6 +13,7 @@ use std::sync::Arc;
 use glam::DVec3;
 
 use crate::measure::solids::{cube, edges, icosphere};
+use crate::tracer::accel::isa::Isa;
 use crate::tracer::geometry::quad::{Quad, box_faces};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3};
@@ -150,8 +151,9 @@ pub(crate) fn aimed(target: DVec3, from: DVec3, placed: Option<Transform>) -> Ra
     Ray::new(origin, from_dvec3((target - to_dvec3(origin)).normalize()))
 }
 
-pub(crate) fn hits(world: &Group, ray: &Ray) -> bool {
-    world.hit(ray, Real::INFINITY, &Probe::default()).is_some()
+/// Whether `ray` meets anything in `world`, searched with the vector level `isa`.
+pub(crate) fn hits(world: &Group, ray: &Ray, isa: Isa) -> bool {
+    world.hit(ray, Real::INFINITY, &Probe { isa, ..Probe::default() }).is_some()
 }
 
 /// A mesh object from f64 positions, rounded to the renderer's numbers; also returns the
@@ -193,9 +195,10 @@ fn inward(solid: Solid, p: DVec3, rng: &mut Rng) -> DVec3 {
 ///
 /// ```
 /// use raypool::measure::stress_shapes::{Aim, Solid, leaks};
-/// assert_eq!(leaks(Solid::Icosphere, Aim::Edges, false, 1000), 0);
+/// use raypool::tracer::accel::isa::Isa;
+/// assert_eq!(leaks(Solid::Icosphere, Aim::Edges, false, 1000, Isa::best()), 0);
 /// ```
-pub fn leaks(solid: Solid, aim: Aim, placed: bool, rays: u64) -> u64 {
+pub fn leaks(solid: Solid, aim: Aim, placed: bool, rays: u64, isa: Isa) -> u64 {
     let cube = || mesh(cube(DVec3::splat(-1.0), DVec3::splat(1.0)));
     let (object, positions, triangles) = match solid {
         Solid::Icosphere => mesh(icosphere(3)),
@@ -223,7 +226,7 @@ pub fn leaks(solid: Solid, aim: Aim, placed: bool, rays: u64) -> u64 {
             Aim::Vertices => positions[rng.index(positions.len())],
         };
         let dir = inward(solid, p, &mut rng);
-        leaks += !hits(&world, &aimed(p, -dir, placed)) as u64;
+        leaks += !hits(&world, &aimed(p, -dir, placed), isa) as u64;
     }
     leaks
 }
@@ -247,10 +250,10 @@ fn hemisphere(n: DVec3, rng: &mut Rng) -> DVec3 {
 ///
 /// ```
 /// use raypool::measure::stress_shapes::{Flat, acne};
-/// let a = acne(Flat::Quad, 1e4, false, 1000);
+/// let a = acne(Flat::Quad, 1e4, false, 1000, raypool::tracer::accel::isa::Isa::best());
 /// assert_eq!((a.missed, a.acne, a.blocked), (0, 0, 0));
 /// ```
-pub fn acne(flat: Flat, distance: f64, placed: bool, rays: u64) -> Acne {
+pub fn acne(flat: Flat, distance: f64, placed: bool, rays: u64, isa: Isa) -> Acne {
     let far = DVec3::splat(distance);
     let (placed, corner) = if placed { (Some(placement(far)), DVec3::ZERO) } else { (None, far) };
     let (q, u, v) =
@@ -268,7 +271,7 @@ pub fn acne(flat: Flat, distance: f64, placed: bool, rays: u64) -> Acne {
     let n = u.cross(v).normalize();
     let mut rng = Rng(0xAC7E + flat as u64 * 16 + distance.log10() as u64 + placed.is_some() as u64 * 256);
     let mut out = Acne::default();
-    let probe = Probe::default();
+    let probe = Probe { isa, ..Probe::default() };
     for _ in 0..rays {
         // A point at least 0.02 (in units of the edges) inside the shape.
         let (a, b) = loop {
@@ -289,8 +292,8 @@ pub fn acne(flat: Flat, distance: f64, placed: bool, rays: u64) -> Acne {
             continue;
         };
         let side = to_dvec3(hit.normal).normalize();
-        out.acne += hits(&world, &hit.spawn(from_dvec3(hemisphere(side, &mut rng)))) as u64;
-        out.blocked += hits(&world, &hit.spawn(from_dvec3(hemisphere(-side, &mut rng)))) as u64;
+        out.acne += hits(&world, &hit.spawn(from_dvec3(hemisphere(side, &mut rng))), isa) as u64;
+        out.blocked += hits(&world, &hit.spawn(from_dvec3(hemisphere(-side, &mut rng))), isa) as u64;
     }
     out
 }
@@ -320,7 +323,7 @@ fn slab(o: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> bool {
 /// miss is checked against an exact slab test of the same box (corners as rounded) and the
 /// same ray (as rounded, taken back to the box's frame in f64 when `placed`). Rays within
 /// 16 ε (32 ε when placed) of an edge are not judged.
-pub fn thin(flat: Flat, thickness: f64, placed: bool, rays: u64) -> Thin {
+pub fn thin(flat: Flat, thickness: f64, placed: bool, rays: u64, isa: Isa) -> Thin {
     let (lo, hi) = (DVec3::new(-0.5, -thickness / 2.0, -0.5), DVec3::new(0.5, thickness / 2.0, 0.5));
     let (lo, hi) = (to_dvec3(from_dvec3(lo)), to_dvec3(from_dvec3(hi)));
     let objects = match flat {
@@ -356,7 +359,7 @@ pub fn thin(flat: Flat, thickness: f64, placed: bool, rays: u64) -> Thin {
         }
         let sure = slab(o, d, lo + margin, hi - margin);
         let maybe = slab(o, d, lo - margin, hi + margin);
-        let got = hits(&world, &r);
+        let got = hits(&world, &r, isa);
         match (sure, maybe, got) {
             (true, _, false) => out.missed += 1,
             (_, false, true) => out.false_hits += 1,
@@ -367,8 +370,9 @@ pub fn thin(flat: Flat, thickness: f64, placed: bool, rays: u64) -> Thin {
     out
 }
 
-/// Every case at `rays` rays each, in the order of the table.
-pub fn table(rays: u64) -> Vec<Row> {
+/// Every case at `rays` rays each, searched with the vector level `isa`, in the order of the
+/// table.
+pub fn table(rays: u64, isa: Isa) -> Vec<Row> {
     let mut rows = Vec::new();
     for placed in [false, true] {
         let how = if placed { ", through an instance" } else { "" };
@@ -378,14 +382,14 @@ pub fn table(rays: u64) -> Vec<Row> {
             (Solid::QuadBox, "box of 6 quads"),
         ] {
             for (aim, at) in [(Aim::Edges, "shared edges"), (Aim::Vertices, "shared vertices")] {
-                let n = leaks(solid, aim, placed, rays);
+                let n = leaks(solid, aim, placed, rays, isa);
                 let case = format!("leaks: {name}, rays at {at}{how}");
                 rows.push(Row { case, rays, failures: n, detail: format!("{n} leaks") });
             }
         }
         for (flat, name) in [(Flat::Quad, "quad"), (Flat::Triangle, "triangle")] {
             for distance in [1e4, 1e5, 1e6] {
-                let a = acne(flat, distance, placed, rays);
+                let a = acne(flat, distance, placed, rays, isa);
                 rows.push(Row {
                     case: format!("acne: tilted {name} {distance:.0e} from the origin{how}"),
                     rays,
@@ -396,7 +400,7 @@ pub fn table(rays: u64) -> Vec<Row> {
         }
         for (flat, name) in [(Flat::Quad, "6 quads"), (Flat::Triangle, "12 triangles")] {
             for thickness in [1e-3, 1e-4, 1e-5] {
-                let t = thin(flat, thickness, placed, rays);
+                let t = thin(flat, thickness, placed, rays, isa);
                 rows.push(Row {
                     case: format!("thin box of {name}, thickness {thickness:.0e}, grazing rays{how}"),
                     rays,

@@ -13,6 +13,7 @@ use std::sync::Arc;
 
 use crate::measure::solids::icosphere;
 use crate::measure::stress_shapes::{NEAR, Rng, Row, aimed, hits, placement, world};
+use crate::tracer::accel::isa::Isa;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, from_dvec3};
 use crate::tracer::world::mesh::Mesh;
@@ -36,11 +37,11 @@ pub struct SelfHits {
 ///
 /// ```
 /// use raypool::measure::stress_smooth::self_hits;
-/// let counts = self_hits(1, false, 2000);
+/// let counts = self_hits(1, false, 2000, raypool::tracer::accel::isa::Isa::best());
 /// assert_eq!((counts.missed, counts.from_departure), (0, 0));
 /// assert!(counts.from_facet > 0, "from the facets, some bounces meet the ball again");
 /// ```
-pub fn self_hits(levels: u32, placed: bool, rays: u64) -> SelfHits {
+pub fn self_hits(levels: u32, placed: bool, rays: u64, isa: Isa) -> SelfHits {
     let (positions, triangles) = icosphere(levels);
     let normals = positions.iter().map(|p| from_dvec3(p.normalize())).collect();
     let positions = positions.iter().map(|&p| from_dvec3(p)).collect();
@@ -51,7 +52,8 @@ pub fn self_hits(levels: u32, placed: bool, rays: u64) -> SelfHits {
     let mut out = SelfHits::default();
     for _ in 0..rays {
         let (target, from) = (0.5 * rng.unit(), rng.unit());
-        let Some(hit) = world.hit(&aimed(target, from, placed), Real::INFINITY, &Probe::default()) else {
+        let probe = Probe { isa, ..Probe::default() };
+        let Some(hit) = world.hit(&aimed(target, from, placed), Real::INFINITY, &probe) else {
             out.missed += 1;
             continue;
         };
@@ -59,20 +61,20 @@ pub fn self_hits(levels: u32, placed: bool, rays: u64) -> SelfHits {
         if dir == Vec3::ZERO {
             continue;
         }
-        out.from_departure += u64::from(hits(&world, &hit.spawn(dir)));
+        out.from_departure += u64::from(hits(&world, &hit.spawn(dir), isa));
         let facet = Ray { origin: hit.point + hit.offset * hit.normal, dir };
-        out.from_facet += u64::from(hits(&world, &facet));
+        out.from_facet += u64::from(hits(&world, &facet, isa));
     }
     out
 }
 
 /// The case's rows for `cargo bench --bench stability`: the icosphere of 1,280 triangles, as
-/// its own world and through an instance.
-pub fn rows(rays: u64) -> Vec<Row> {
+/// its own world and through an instance, searched with the vector level `isa`.
+pub fn rows(rays: u64, isa: Isa) -> Vec<Row> {
     [false, true]
         .into_iter()
         .map(|placed| {
-            let s = self_hits(3, placed, rays);
+            let s = self_hits(3, placed, rays, isa);
             let how = if placed { ", through an instance" } else { "" };
             Row {
                 case: format!(
