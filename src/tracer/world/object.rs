@@ -410,7 +410,14 @@ impl Medium {
         }
         // The distance is drawn first: in thin fog it mostly passes whatever was hit before,
         // and the boundary need not be searched (the path inside is no longer than `t_max`).
-        let distance = -probe.uniform(self.id).ln() / self.density;
+        // Most draws are ruled out before the logarithm: −ln u ≥ 1 − u, so a draw whose
+        // `1 − u` already reaches past `t_max` (by a margin far above the rounding of the
+        // logarithm and the division) would give a distance past it too: the same answer.
+        let u = probe.uniform(self.id);
+        if 1.0 - u > t_max * self.density * (1.0 + 1e-4) {
+            return None;
+        }
+        let distance = -u.ln() / self.density;
         if distance.is_nan() || distance >= t_max {
             return None;
         }
