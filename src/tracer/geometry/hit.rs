@@ -81,6 +81,15 @@ impl Closest {
 }
 
 impl Hit {
+    /// A scattering event at distance `t` along `ray` inside a medium of `material`: its normal
+    /// is any unit vector (the phase function ignores it), and a ray leaves from right there
+    /// (no offset: there is no surface to clear).
+    #[inline]
+    pub fn in_medium(ray: &Ray, t: Real, material: u32) -> Hit {
+        let point = ray.at(t);
+        Hit { t, point, normal: Vec3::X, front_face: true, material, offset: 0.0, lift: 0.0, u: 0.0, v: 0.0 }
+    }
+
     /// Where paths leave this hit on the normal's side, and the point light is gathered at:
     /// `point` raised by [`Hit::lift`] (so a light sample, its shadow ray, its density and
     /// the bounce all start from one point). An emitter's own point stays `point`.

@@ -410,9 +410,8 @@ impl Medium {
         }
         // The distance is drawn first: in thin fog it mostly passes whatever was hit before,
         // and the boundary need not be searched (the path inside is no longer than `t_max`).
-        // Most draws are ruled out before the logarithm: −ln u ≥ 1 − u, so a draw whose
-        // `1 − u` already reaches past `t_max` (by a margin far above the rounding of the
-        // logarithm and the division) would give a distance past it too: the same answer.
+        // As −ln u ≥ 1 − u, most draws are past `t_max` before the logarithm (the margin is
+        // far above the rounding of the logarithm and the division): the same answer.
         let u = probe.uniform(self.id);
         if 1.0 - u > t_max * self.density * (1.0 + 1e-4) {
             return None;
@@ -437,19 +436,6 @@ impl Medium {
         if distance >= length {
             return None;
         }
-        let t = enter + distance;
-        Some(Hit {
-            t,
-            point: ray.at(t),
-            // Any unit vector: the phase function ignores it, and a ray leaves from right
-            // here (no offset: there is no surface to clear).
-            normal: Vec3::X,
-            front_face: true,
-            material: self.material,
-            offset: 0.0,
-            lift: 0.0,
-            u: 0.0,
-            v: 0.0,
-        })
+        Some(Hit::in_medium(ray, enter + distance, self.material))
     }
 }
