@@ -6,7 +6,8 @@
 //! `queue.rs`; this file imports the disciplines. Nothing imports back (no import circle).
 //!
 //! Invariant: [`Discipline::ALL`] lists every variant, so that the tests and benchmarks that
-//! iterate over it cover a discipline added here with no other list to edit.
+//! iterate over it cover a discipline added here with no other list to edit (but for the loom
+//! models' `MODELLED` in `pool/tests/loom.rs`, which a discipline built on `sync.rs` joins).
 
 use crate::locked::LockedQueue;
 use crate::queue::MakeQueue;

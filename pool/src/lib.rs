@@ -22,7 +22,7 @@
 //! The modules are declared below in this order: the order of the ideas, not of the imports.
 //! Almost every file imports `sync.rs` (it only re-exports std's and parking_lot's types, or
 //! loom's under `--cfg loom`: read it first if you like), `queue.rs` names the latch a job
-//! carries (step 7) and `worker.rs` the statistics (step 8). No file imports one that imports
+//! carries (`latch.rs`, below) and `worker.rs` the statistics (`stats.rs`). No file imports one that imports
 //! it back, directly or through others: the `use` arrows between files form no circle
 //! (`pool.rs` is the only file that uses `batch.rs`, `discipline.rs` and `worker.rs` together).
 //!

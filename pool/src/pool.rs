@@ -116,8 +116,8 @@ impl Builder {
         self
     }
 
-    /// Time every job and keep a [`JobSpan`] per job (default: off; costs two clock reads
-    /// per job).
+    /// Time every job and keep a [`JobSpan`] per job (default: off; costs four clock reads
+    /// per job: the wait for it and its run).
     ///
     /// ```
     /// let pool = pool::ThreadPool::builder().workers(1).instrument(true).build().unwrap();

@@ -126,7 +126,9 @@ pub trait JobQueue: Send + Sync {
     fn close(&self);
 }
 
-/// What the loom models of every discipline share (`.ci/run` runs them; see `sync.rs`).
+/// What the loom models of the disciplines share (`.ci/run` runs them; see `sync.rs`): the
+/// locked and stealing queues, whose locks and atomics loom can see (the shared queue is a
+/// crossbeam channel, which it cannot).
 #[cfg(all(test, loom))]
 pub(crate) mod model {
     use std::sync::Arc;

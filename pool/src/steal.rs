@@ -4,7 +4,8 @@
 //!   batch of 12 jobs, 3 workers: dealt out in contiguous runs
 //!   worker 0: [ 0  1  2  3 ]   takes from the front: 0, 1, 2…
 //!   worker 1: [ 4  5  6  7 ]
-//!   worker 2: [ 8  9 10 11 ]   ← worker 2 finished early: steals 7 from worker 1's back
+//!   worker 2: [ 8  9 10 11 ]   ← worker 2 finished early: tries worker 0 first (the one
+//!                                after it, wrapping round) and steals 3 from its back
 //! ```
 //!
 //! Two roles, two methods, named as crossbeam-deque names them: the owner *pops* its own jobs

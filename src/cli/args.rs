@@ -287,7 +287,8 @@ pub struct GradeArgs {
     /// The built-in mode to grade.
     #[arg(long, required_unless_present = "discipline", conflicts_with = "discipline")]
     pub mode: Option<Schedule>,
-    /// The built-in queue discipline to grade: shared, locked or stealing.
+    /// The built-in queue discipline to grade (a name it does not know is answered with the
+    /// list).
     #[arg(long, value_parser = discipline)]
     pub discipline: Option<pool::Discipline>,
     /// Thread counts, rounds, report file.
