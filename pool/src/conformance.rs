@@ -2,7 +2,7 @@
 //! course assignment's) must pass before it is measured.
 //!
 //! [`check`] builds pools on the queue and runs, each under a deadline, the contract every
-//! built-in discipline keeps (`tests/contract.rs` checks them at greater length):
+//! built-in discipline keeps (`pool/tests/contract.rs` checks them at greater length):
 //! - a batch returns every result, in submission order, on 1 to 4 workers, and each job ran
 //!   exactly once;
 //! - jobs spawned from several threads all run;

@@ -1,9 +1,10 @@
 //! A count-down latch: a thread waits until `n` jobs have each counted down once.
 //!
 //! The count is an atomic so that finishing a job costs one atomic subtraction; the mutex and
-//! condition variable are touched only by the job that brings the count to zero and by a
-//! waiter that has to sleep. `done` is set under the lock, and the waiter checks it under the
-//! lock before sleeping, so the final notification cannot be missed.
+//! condition variable are touched only by the job that brings the count to zero and by the
+//! waiter's `wait` (once, if the count is already zero; a helping worker polls `is_done` and
+//! calls `wait` only at the end). `done` is set under the lock, and the waiter checks it under
+//! the lock before sleeping, so the final notification cannot be missed.
 //!
 //! Memory ordering: each job's `count_down` is a release (`AcqRel`) subtraction and the
 //! waiter's `is_done` an acquire load, so whatever a job wrote before counting down (its

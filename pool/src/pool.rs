@@ -8,7 +8,8 @@
 //! Lifetime: `build` starts every worker at once (named `pool-worker-0`, `pool-worker-1`,
 //! …); they live exactly as long as the `ThreadPool`. Dropping the pool closes the queue,
 //! lets the workers run every job already queued, and joins them: when `drop` returns, no
-//! worker thread is left.
+//! worker thread is left (unless the pool was dropped inside one of its own jobs: that worker
+//! cannot join itself, and exits when the job returns; see `Drop`).
 
 use std::fmt;
 use std::sync::Arc;

@@ -43,7 +43,7 @@ pub struct WorkerStats {
 /// Every worker's [`WorkerStats`], indexed by worker number.
 ///
 /// ```
-/// use pool::{Discipline, ThreadPool};
+/// use pool::ThreadPool;
 /// let pool = ThreadPool::builder().workers(2).instrument(true).build().unwrap();
 /// pool.batch((0..8).map(|_| || std::thread::sleep(std::time::Duration::from_millis(2))));
 /// let stats = pool.stats();
