@@ -151,9 +151,8 @@ pub struct WorkerArgs {
     /// Worker threads [default: the number of CPUs].
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..=4096))]
     pub threads: Option<u32>,
-    /// Scheduler: serial, static (T blocks of rows), interleaved (row r to thread r mod T),
-    /// pool-rows (a job per row, shared queue), pool (tiles, shared queue), steal (tiles,
-    /// work stealing).
+    /// Scheduler: how the frame's rows or tiles are shared among the threads (the values
+    /// are `Schedule`'s own, so a new mode lists itself).
     #[arg(long, value_enum, default_value_t = Schedule::Stealing)]
     pub mode: Schedule,
     /// Random numbers: per-sample streams (reproducible) or one generator behind a lock
