@@ -29,7 +29,8 @@ fn served_image(viewer: &Viewer, generation: u64) -> Vec<u8> {
 #[test]
 fn a_guided_render_in_the_viewer_is_the_command_lines_image() {
     // Passes of 1, 1, 2 samples learn; the last, 4..16, is the viewer's 4..8 and 8..16. In
-    // bsdf with roulette (mis below), where a first pass's pixels depend on whether it learns.
+    // bsdf with roulette (mis below), where a learning pass once drew other numbers than one
+    // that does not learn (`tests/guiding.rs` keeps them the same).
     let transport = ["--light-sampling", "bsdf", "--roulette"];
     let flags = ["--scene", "cornell", "--width", "40", "--threads", "2", "--tile", "8"];
     let viewer = Viewer::start(&[&flags[..], &transport, &guided("4", "16")].concat());
