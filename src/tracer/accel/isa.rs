@@ -1,7 +1,7 @@
 //! **Wide vectors, chosen at run time.** raypool is built for baseline x86-64 (SSE2: four f32
 //! lanes), so the binary runs on any x86-64; a search that [`Isa::run`]s its code on a CPU
 //! with AVX2 or AVX-512 gets that code compiled again with those instructions enabled, where
-//! an eight-lane [`Lanes`](crate::tracer::math::lanes::Lanes) operation is one instruction
+//! an eight-lane [`Lanes8`](crate::tracer::accel::lanes::Lanes8) operation is one instruction
 //! instead of two. Calling code compiled for instructions the CPU may lack needs `unsafe`
 //! (`#[target_feature]`); the `pulp` crate (faer's; already built for `image`'s EXR reader)
 //! keeps that `unsafe` inside itself behind a token that exists only once the CPU has been
@@ -13,6 +13,8 @@
 //! (`tests/isa.rs`).
 
 use std::fmt;
+
+use crate::tracer::accel::lanes::{Scalar8, WithLanes8};
 
 /// The widest vector instructions a search may use: [`Isa::best`] by default, or another
 /// level asked for by name (`RAYPOOL_ISA`, for tests and benchmarks).
@@ -94,6 +96,52 @@ impl Isa {
             Level::Avx2(v3) => v3.vectorize(op),
             #[cfg(target_arch = "x86_64")]
             Level::Avx512(v4) => v4.vectorize(op),
+        }
+    }
+
+    /// Runs `op` compiled for this level, with this level's eight-lane operations
+    /// ([`Lanes8`](crate::tracer::accel::lanes::Lanes8)): AVX registers at avx2 and avx512 (eight lanes are what an eight-wide node
+    /// needs), scalar lanes at the baseline and in the `f64` build.
+    ///
+    /// ```
+    /// use raypool::tracer::accel::{isa::Isa, lanes::{Lanes8, WithLanes8}};
+    /// use raypool::tracer::math::real::Real;
+    /// struct CountBelow(Real);
+    /// impl WithLanes8 for CountBelow {
+    ///     type Output = u32;
+    ///     fn run<L: Lanes8>(self, lanes: L) -> u32 {
+    ///         let a = lanes.load(&[0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0]);
+    ///         lanes.le_mask(a, lanes.splat(self.0)).count_ones()
+    ///     }
+    /// }
+    /// for isa in Isa::available() {
+    ///     assert_eq!(isa.run_lanes(CountBelow(2.5)), 3, "the same at {isa:?}");
+    /// }
+    /// ```
+    #[inline(always)]
+    pub fn run_lanes<W: WithLanes8>(self, op: W) -> W::Output {
+        match self.0 {
+            Level::Baseline => op.run(Scalar8),
+            #[cfg(all(target_arch = "x86_64", not(feature = "f64")))]
+            Level::Avx2(v3) => v3.vectorize(
+                #[inline(always)]
+                || op.run(crate::tracer::accel::lanes::Avx8(v3)),
+            ),
+            #[cfg(all(target_arch = "x86_64", not(feature = "f64")))]
+            Level::Avx512(v4) => v4.vectorize(
+                #[inline(always)]
+                || op.run(crate::tracer::accel::lanes::Avx8(*v4)),
+            ),
+            #[cfg(all(target_arch = "x86_64", feature = "f64"))]
+            Level::Avx2(v3) => v3.vectorize(
+                #[inline(always)]
+                || op.run(Scalar8),
+            ),
+            #[cfg(all(target_arch = "x86_64", feature = "f64"))]
+            Level::Avx512(v4) => v4.vectorize(
+                #[inline(always)]
+                || op.run(Scalar8),
+            ),
         }
     }
 }

@@ -11,4 +11,6 @@
 pub mod packet;
 pub mod bvh;
 pub mod wide;
+pub mod wide8;
 pub mod isa;
+pub mod lanes;

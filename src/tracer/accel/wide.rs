@@ -317,21 +317,21 @@ fn leaf_spheres(slot: u32) -> Range<usize> {
 /// it is rounded down to f32, which can only keep a child that the exact distance would have
 /// skipped, never skip one it would have kept.
 #[derive(Clone, Copy)]
-struct Waiting(u64);
+pub(super) struct Waiting(u64);
 
 impl Waiting {
     #[inline(always)]
-    fn new(child: u32, entry: Real) -> Waiting {
+    pub(super) fn new(child: u32, entry: Real) -> Waiting {
         Waiting(u64::from(to_f32_at_most(entry).to_bits()) << 32 | u64::from(child))
     }
 
     #[inline(always)]
-    fn entry(self) -> Real {
+    pub(super) fn entry(self) -> Real {
         Real::from(f32::from_bits((self.0 >> 32) as u32))
     }
 
     #[inline(always)]
-    fn child(self) -> u32 {
+    pub(super) fn child(self) -> u32 {
         self.0 as u32
     }
 }
@@ -341,17 +341,17 @@ const EMPTY_CORNERS: [[Wide; 3]; 2] = [[[Real::INFINITY; WIDTH]; 3], [[Real::NEG
 
 /// A ray prepared for slab tests: its origin, inverse direction, and which corner of a box
 /// it meets first on each axis.
-struct Slab {
-    origin: [Real; 3],
-    inv_dir: [Real; 3],
+pub(super) struct Slab {
+    pub(super) origin: [Real; 3],
+    pub(super) inv_dir: [Real; 3],
     /// `inv_dir` scaled by [`SLAB_ROUNDING`], for the exit distances: scaled once per ray
     /// instead of once per exit distance, which carries as many roundings as pbrt's (the
     /// reciprocal, this scaling, the subtraction, the product; pbrt scales last), so its
     /// bound still holds; one multiplication less per axis and node (3% more triangle
     /// rays/s, `results/perf.md`).
-    inv_exit: [Real; 3],
+    pub(super) inv_exit: [Real; 3],
     /// Per axis, 0 when the ray travels towards +axis (it enters at the lower corner), else 1.
-    near_corner: [usize; 3],
+    pub(super) near_corner: [usize; 3],
 }
 
 /// pbrt's bound on the slab test's own rounding: the exit distance is scaled up by
@@ -360,7 +360,7 @@ const SLAB_ROUNDING: Real = 1.0 + 2.0 * (3.0 * Real::EPSILON / 2.0) / (1.0 - 3.0
 
 impl Slab {
     #[inline(always)]
-    fn new(ray: &Ray) -> Slab {
+    pub(super) fn new(ray: &Ray) -> Slab {
         let inv = ray.dir.recip();
         let inv_dir = [inv.x, inv.y, inv.z];
         Slab {

@@ -1,6 +1,6 @@
 //! Triangle meshes, as pbrt keeps them: flat and indexed. The vertices' positions (and,
 //! when the file gives them, normals and texture coordinates) are stored once; a triangle is
-//! three indices into them, never three copied points. A mesh keeps its own four-wide tree
+//! three indices into them, never three copied points. A mesh keeps its own tree
 //! over its triangles and is one object in its scene's (or group's) tree.
 //!
 //! Triangles are tested with the watertight test (`geometry/triangle.rs`), so a closed mesh
@@ -8,11 +8,13 @@
 //! off it, as off a sphere. Each leaf of the tree (up to four triangles) also keeps its
 //! triangles' corners copied lane by lane, a [`Triangles4`], so that a leaf is one four-lane
 //! test reading one 144-byte block, not four tests each gathering three vertices through
-//! their indices (Embree keeps its leaves so).
+//! their indices (Embree keeps its leaves so). The tree is eight-wide ([`Bvh8`]), searched
+//! with the eight-lane operations of the scene's vector level.
 
 use crate::tracer::accel::bvh::Bvh;
 use crate::tracer::accel::isa::Isa;
-use crate::tracer::accel::wide::WideBvh;
+use crate::tracer::accel::lanes::{Lanes8, WithLanes8};
+use crate::tracer::accel::wide8::Bvh8;
 use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::triangle::{self, RayFrame, TriangleHit, Triangles4};
 use crate::tracer::math::aabb::{Aabb, Bounded};
@@ -34,7 +36,7 @@ pub struct Mesh {
     /// Vertex indices, in the tree's order.
     triangles: Vec<[u32; 3]>,
     /// Its leaves are numbered: leaf `k` is `leaves[k]`.
-    tree: WideBvh,
+    tree: Bvh8,
     leaves: Vec<Leaf>,
     bounds: Aabb,
     /// Off-surface distance for new rays, from the mesh's magnitude.
@@ -119,9 +121,8 @@ impl Mesh {
         // Boxes padded as the spheres' are: a quarter of the spawn offset.
         building.iter_mut().for_each(|t| t.bounds = t.bounds.padded(0.25 * offset));
         let binary = Bvh::build_with_leaves(&mut building, LEAF);
-        let mut tree = WideBvh::collapse_plain(&binary, building.len());
-        let leaves: Vec<Leaf> = tree
-            .number_leaves()
+        let (tree, ranges) = Bvh8::collapse(&binary);
+        let leaves: Vec<Leaf> = ranges
             .into_iter()
             .map(|range| {
                 let corners: Vec<_> = building[range.clone()]
@@ -174,56 +175,13 @@ impl Mesh {
     /// searched with the vector instructions of `isa` (the same answer at every level).
     #[inline]
     pub fn closest(&self, ray: &Ray, t_max: Real, isa: Isa) -> Option<(usize, TriangleHit)> {
-        isa.run(
-            #[inline(always)]
-            || self.closest_here(ray, t_max),
-        )
-    }
-
-    #[inline(always)]
-    fn closest_here(&self, ray: &Ray, t_max: Real) -> Option<(usize, TriangleHit)> {
-        let mut closest = Closest::none(t_max);
-        // The leaf test's findings for the closest hit so far: copied whole when a lane wins
-        // (about once a ray), its barycentric coordinates worked out once, at the end.
-        let mut best = None;
-        let frame = RayFrame::new(ray);
-        self.tree.traverse(ray, &mut closest, |leaf, closest| {
-            let leaf = &self.leaves[leaf.start];
-            let hits = leaf.corners.intersect(&frame, closest.bound());
-            for lane in hits.lanes() {
-                let k = leaf.first + lane as u32;
-                closest.offer(hits.t(lane), k);
-                if closest.index == k {
-                    best = Some((hits, lane));
-                }
-            }
-        });
-        let (k, _) = closest.found()?;
-        let (hits, lane) = best.expect("a found triangle was found by a leaf");
-        Some((k, hits.hit(lane)))
+        isa.run_lanes(ClosestSearch { mesh: self, ray, t_max })
     }
 
     /// Whether any triangle is hit in `(0, t_max)`: the search ends at the first found.
     #[inline]
     pub fn occludes(&self, ray: &Ray, t_max: Real, isa: Isa) -> bool {
-        isa.run(
-            #[inline(always)]
-            || self.occludes_here(ray, t_max),
-        )
-    }
-
-    #[inline(always)]
-    fn occludes_here(&self, ray: &Ray, t_max: Real) -> bool {
-        let mut closest = Closest::none(t_max);
-        let mut found = false;
-        let frame = RayFrame::new(ray);
-        self.tree.traverse(ray, &mut closest, |leaf, closest| {
-            if self.leaves[leaf.start].corners.intersect(&frame, t_max).any() {
-                found = true;
-                closest.rule_out_rest();
-            }
-        });
-        found
+        isa.run_lanes(OcclusionSearch { mesh: self, ray, t_max })
     }
 
     /// The nearest hit in `(0, t_max)`, with `material`.
@@ -285,5 +243,64 @@ impl Mesh {
     /// The mesh's box.
     pub fn bounds(&self) -> Aabb {
         self.bounds
+    }
+}
+
+/// [`Mesh::closest`]'s search, run with the lanes of the scene's vector level.
+struct ClosestSearch<'a> {
+    mesh: &'a Mesh,
+    ray: &'a Ray,
+    t_max: Real,
+}
+
+impl WithLanes8 for ClosestSearch<'_> {
+    type Output = Option<(usize, TriangleHit)>;
+
+    #[inline(always)]
+    fn run<L: Lanes8>(self, lanes: L) -> Self::Output {
+        let mut closest = Closest::none(self.t_max);
+        // The leaf test's findings for the closest hit so far: copied whole when a lane wins
+        // (about once a ray), its barycentric coordinates worked out once, at the end.
+        let mut best = None;
+        let frame = RayFrame::new(self.ray);
+        self.mesh.tree.traverse(lanes, self.ray, &mut closest, |leaf, closest| {
+            let leaf = &self.mesh.leaves[leaf];
+            let hits = leaf.corners.intersect(&frame, closest.bound());
+            for lane in hits.lanes() {
+                let k = leaf.first + lane as u32;
+                closest.offer(hits.t(lane), k);
+                if closest.index == k {
+                    best = Some((hits, lane));
+                }
+            }
+        });
+        let (k, _) = closest.found()?;
+        let (hits, lane) = best.expect("a found triangle was found by a leaf");
+        Some((k, hits.hit(lane)))
+    }
+}
+
+/// [`Mesh::occludes`]'s search, run with the lanes of the scene's vector level.
+struct OcclusionSearch<'a> {
+    mesh: &'a Mesh,
+    ray: &'a Ray,
+    t_max: Real,
+}
+
+impl WithLanes8 for OcclusionSearch<'_> {
+    type Output = bool;
+
+    #[inline(always)]
+    fn run<L: Lanes8>(self, lanes: L) -> bool {
+        let mut closest = Closest::none(self.t_max);
+        let mut found = false;
+        let frame = RayFrame::new(self.ray);
+        self.mesh.tree.traverse(lanes, self.ray, &mut closest, |leaf, closest| {
+            if self.mesh.leaves[leaf].corners.intersect(&frame, self.t_max).any() {
+                found = true;
+                closest.rule_out_rest();
+            }
+        });
+        found
     }
 }
