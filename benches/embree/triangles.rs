@@ -1,7 +1,7 @@
 //! Triangles against Embree 3 (`cargo bench --bench embree --features embree`, its
 //! triangle tables): the `mesh` scene's 131,072-triangle mesh, and its terrain again at 768 ×
 //! 768 cells (1,179,648 triangles, a tree past the caches), searched by raypool's own
-//! four-wide tree and watertight test ([`Mesh::closest`]) at each vector level the CPU has,
+//! eight-wide tree and watertight test ([`Mesh::closest`]) at each vector level the CPU has,
 //! and by Embree's triangle tree (`RTC_GEOMETRY_TYPE_TRIANGLE`, built from the same positions
 //! and indices, build quality high, Embree's default scene flags): on Embree's default device,
 //! which picks its code for the CPU at run time (AVX2 or AVX-512 and an eight-wide tree where
@@ -321,7 +321,7 @@ pub fn section(
                 (format!("{:.2}", median_of(&ratios)), format!("{lo:.2}–{hi:.2}"))
             };
             let label = if k < ours {
-                format!("raypool at {:?} (4-wide tree, watertight test)", levels[k])
+                format!("raypool at {:?} (8-wide tree, watertight test)", levels[k])
             } else {
                 devices[k - ours].0.to_owned()
             };
@@ -361,7 +361,7 @@ pub fn section(
         .collect();
     format!(
         "## Triangles: {title}\n\n\
-         raypool's mesh search ([`Mesh::closest`]: its own four-wide tree, leaves of 4 whose\n\
+         raypool's mesh search ([`Mesh::closest`]: its own eight-wide tree, leaves of 4 whose\n\
          watertight test runs in four SIMD lanes) against Embree's triangle geometry (`RTC_GEOMETRY_TYPE_TRIANGLE`, build\n\
          quality high, default scene flags, `rtcIntersect1` with an incoherent context), over\n\
          the same positions and indices: {tris} triangles. The search only, mesh only (the\n\

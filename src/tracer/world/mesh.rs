@@ -263,17 +263,24 @@ impl WithLanes8 for ClosestSearch<'_> {
         // (about once a ray), its barycentric coordinates worked out once, at the end.
         let mut best = None;
         let frame = RayFrame::new(self.ray);
-        self.mesh.tree.traverse(lanes, self.ray, &mut closest, |leaf, closest| {
-            let leaf = &self.mesh.leaves[leaf];
-            let hits = leaf.corners.intersect(&frame, closest.bound());
-            for lane in hits.lanes() {
-                let k = leaf.first + lane as u32;
-                closest.offer(hits.t(lane), k);
-                if closest.index == k {
-                    best = Some((hits, lane));
+        self.mesh.tree.traverse(
+            lanes,
+            self.ray,
+            &mut closest,
+            // Inlined, or the leaf test runs in a copy compiled for the baseline at every level.
+            #[inline(always)]
+            |leaf: usize, closest: &mut Closest| {
+                let leaf = &self.mesh.leaves[leaf];
+                let hits = leaf.corners.intersect(&frame, closest.bound());
+                for lane in hits.lanes() {
+                    let k = leaf.first + lane as u32;
+                    closest.offer(hits.t(lane), k);
+                    if closest.index == k {
+                        best = Some((hits, lane));
+                    }
                 }
-            }
-        });
+            },
+        );
         let (k, _) = closest.found()?;
         let (hits, lane) = best.expect("a found triangle was found by a leaf");
         Some((k, hits.hit(lane)))
@@ -295,12 +302,18 @@ impl WithLanes8 for OcclusionSearch<'_> {
         let mut closest = Closest::none(self.t_max);
         let mut found = false;
         let frame = RayFrame::new(self.ray);
-        self.mesh.tree.traverse(lanes, self.ray, &mut closest, |leaf, closest| {
-            if self.mesh.leaves[leaf].corners.intersect(&frame, self.t_max).any() {
-                found = true;
-                closest.rule_out_rest();
-            }
-        });
+        self.mesh.tree.traverse(
+            lanes,
+            self.ray,
+            &mut closest,
+            #[inline(always)]
+            |leaf: usize, closest: &mut Closest| {
+                if self.mesh.leaves[leaf].corners.intersect(&frame, self.t_max).any() {
+                    found = true;
+                    closest.rule_out_rest();
+                }
+            },
+        );
         found
     }
 }
