@@ -307,13 +307,6 @@ impl Scene {
         self.objects.hit(ray, Real::INFINITY, probe)
     }
 
-    /// The closest hit along `ray` in `(0, t_max)` in a second-book scene: the same hit as
-    /// [`Scene::hit_world`]'s wherever that one lies below `t_max`.
-    #[inline]
-    pub fn hit_world_before(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
-        self.objects.hit(ray, t_max, probe)
-    }
-
     /// Whether anything in a second-book scene is hit along `ray` in `(0, t_max)`.
     #[inline]
     pub fn occluded(&self, ray: &Ray, t_max: Real, probe: &Probe) -> bool {

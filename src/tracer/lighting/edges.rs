@@ -73,12 +73,9 @@ impl<'a> Edges<'a> {
             if !box_of_lights.hit(ray.origin, ray.dir.recip(), Real::INFINITY) {
                 continue;
             }
-            // Only a light's front emits, so only a first hit no farther than a light can:
-            // the search looks no farther, and finds the same first hit wherever it is nearer.
-            let Some(reach) = scene.lights().reach(&ray) else { continue };
             *rays += 1;
             let probe = Probe { medium_seed: probe.medium_seed ^ EDGE_RAY_KEY ^ u64::from(spot), ..probe };
-            if let Some(hit) = scene.hit_world_before(&ray, reach, &probe) {
+            if let Some(hit) = scene.hit_world(&ray, &probe) {
                 sum += scene.material(&hit).emitted(&hit);
             }
         }

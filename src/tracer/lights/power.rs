@@ -127,26 +127,6 @@ impl Lights {
         self.lights.is_empty()
     }
 
-    /// A distance along `ray` beyond every point at which the search of the world can meet a
-    /// light, or `None` if it can meet none: where the ray leaves the lights' box, padded and
-    /// lengthened far beyond the rounding by which the world's hit on a light (in an
-    /// instance's frame, say) may lie outside the box of the light placed in the world.
-    #[inline]
-    pub fn reach(&self, ray: &Ray) -> Option<Real> {
-        const SLACK: Real = 1e-3;
-        let pad = Vec3::splat(SLACK * (self.bounds.magnitude() + ray.origin.abs().max_element()));
-        let low = (self.bounds.min - pad - ray.origin) / ray.dir;
-        let high = (self.bounds.max + pad - ray.origin) / ray.dir;
-        // `if a < b { a } else { b }` keeps `b` where `a` is NaN (a ray along a face), which
-        // only widens the box.
-        let sooner = |a: Real, b: Real| if a < b { a } else { b };
-        let later = |a: Real, b: Real| if a > b { a } else { b };
-        let (t_in, t_out) = (low.min(high), low.max(high));
-        let near = later(t_in.z, later(t_in.y, later(t_in.x, 0.0)));
-        let far = sooner(t_out.z, sooner(t_out.y, sooner(t_out.x, Real::INFINITY)));
-        (near <= far).then_some(far * (1.0 + SLACK) + SLACK)
-    }
-
     /// A direction from `from` towards a light at `time`: three draws (the choice, then a
     /// point on it). `None` if there is no light, `from` is inside the chosen sphere, or the
     /// point drawn is seen exactly edge-on.
