@@ -76,7 +76,7 @@ pub fn render_job(args: &ImageArgs, scene: &SceneFile, settings: RenderSettings)
 }
 
 /// The vector instructions searches use: `RAYPOOL_ISA`'s level (`sse2`, `avx2`, `avx512`),
-/// for tests and benchmarks, else [`Isa::best`] (AVX2 where the CPU has it). Every level renders the same
+/// for tests and benchmarks, else [`Isa::best`] (the widest the CPU has). Every level renders the same
 /// bytes.
 pub fn isa() -> Result<Isa, Error> {
     match std::env::var("RAYPOOL_ISA") {

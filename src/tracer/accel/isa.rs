@@ -46,11 +46,11 @@ impl Isa {
     /// The names [`Isa::named`] takes, lowest first.
     pub const NAMES: [&'static str; 3] = ["sse2", "avx2", "avx512"];
 
-    /// The level a search uses unless told otherwise: AVX2 where the CPU has it, else the
-    /// baseline. Not AVX-512: the trees are four wide, so its wider registers buy nothing, and
-    /// on this project's AMD EPYC the sphere tree ran slower with it (`results/embree.md`).
+    /// The level a search uses unless told otherwise: the widest the CPU has. A mesh's
+    /// eight-wide search gains from AVX-512's thirty-two registers even in eight lanes; the
+    /// four-wide sphere tree neither gains nor loses (`results/embree.md`).
     pub fn best() -> Isa {
-        Isa::named("avx2").unwrap_or(Isa::BASELINE)
+        Isa::available().pop().unwrap_or(Isa::BASELINE)
     }
 
     /// Every level this CPU offers, lowest first (the baseline always).
