@@ -384,3 +384,62 @@ fn every_chapter_is_in_the_summary_and_its_rust_is_doc_tested() {
         );
     }
 }
+
+/// The modes as `--mode` takes them, from the `Schedule` enum itself.
+fn mode_names() -> Vec<String> {
+    use clap::ValueEnum;
+    raypool::schedule::modes::Schedule::value_variants()
+        .iter()
+        .filter_map(|mode| mode.to_possible_value())
+        .map(|value| value.get_name().to_owned())
+        .collect()
+}
+
+/// The lists of schedulers the book writes by hand cannot go stale: the course's table and the
+/// command line's `--mode` row name exactly the modes `Schedule` has, in its order, and every
+/// "N schedulers" or "N modes" in the README and the book counts them.
+#[test]
+fn the_books_lists_of_schedulers_are_the_modes_raypool_has() {
+    let modes = mode_names();
+    let course = read(&root().join("docs/src/course.md"));
+    let section =
+        course.split("\n## ").find(|s| s.contains("schedulers\n")).expect("the course's scheduler section");
+    let rows: Vec<&str> = section
+        .lines()
+        .filter_map(|l| l.strip_prefix("| `"))
+        .filter_map(|l| l.split('`').next())
+        .filter(|name| !name.starts_with("--"))
+        .collect();
+    assert_eq!(rows, modes, "docs/src/course.md's scheduler table against `Schedule`'s modes");
+    let options = read(&root().join("docs/src/command-line.md"));
+    let row = options.lines().find(|l| l.starts_with("| `--mode")).expect("command-line.md's --mode row");
+    let listed: Vec<&str> = row
+        .split(" | ")
+        .nth(2)
+        .unwrap_or("")
+        .split('(')
+        .next()
+        .unwrap_or("")
+        .split('`')
+        .skip(1)
+        .step_by(2)
+        .collect();
+    assert_eq!(listed, modes, "docs/src/command-line.md's --mode row against `Schedule`'s modes");
+    let words = [
+        "zero", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten", "eleven",
+        "twelve",
+    ];
+    let count = words[modes.len()];
+    for path in documents() {
+        let text = read(&path).to_lowercase().replace('\n', " ");
+        for (k, word) in words.iter().enumerate().filter(|&(k, _)| k != modes.len()) {
+            for what in ["schedulers", "modes"] {
+                assert!(
+                    !text.contains(&format!(" {word} {what}")),
+                    "{} says \"{word} {what}\" ({k}); raypool has {count}",
+                    shown(&path)
+                );
+            }
+        }
+    }
+}
