@@ -54,10 +54,9 @@
 //! **Cost.** One `fence(SeqCst)` per push (an `mfence` on x86), and one per trip to sleep.
 //! Its own cost was not measured. What was measured (`results/pool-mutants-history.md`, "The
 //! pool's speed"): the whole change that introduced it (the count moved under the deque's
-//! lock, and the fences) against its parent, 4 alternating pairs of Criterion medians for
-//! 100,000 empty jobs on 2 workers. Stealing was 1.02–1.19× *faster* per job in each pair,
-//! while the unchanged control (rayon) moved 1.02–2.06× between the two builds: no slowdown of
-//! that change shows above this noise, and no more than that was shown.
+//! lock, and the fences) against its parent, alternating pairs of Criterion medians for
+//! 100,000 empty jobs on 2 workers: no slowdown of that change showed above the noise of the
+//! unchanged control (rayon) between the two builds, and no more than that was shown.
 
 use std::sync::atomic::Ordering::SeqCst;
 

@@ -119,8 +119,7 @@ impl Camera {
     /// A camera ray through a uniformly random point of pixel `(i, j)` (column, row from the
     /// top), from a random point on the lens. A pinhole camera draws no lens numbers. Forced
     /// inline into the render loop: with a Sobol stream the compiler kept it a call, and its
-    /// draws and the stream's state went through memory (callgrind: final −1.7%, paper1 −4.9%
-    /// instructions inlined, `results/perf.md`).
+    /// draws and the stream's state went through memory (`results/perf.md`).
     #[inline(always)]
     pub fn ray<R: Rng + ?Sized>(&self, i: u32, j: u32, rng: &mut R) -> Ray {
         let spot = [uniform(rng), uniform(rng)];

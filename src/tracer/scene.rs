@@ -34,9 +34,8 @@ use crate::tracer::world::object::{Object, Probe};
 pub const BVH_MIN_SPHERES: usize = 6;
 
 /// Scenes with fewer spheres than this (but at least [`BVH_MIN_SPHERES`]) use the binary
-/// tree. Measured with `--accel` (two runs of 15 pairs each), the four-wide one was 3–7%
-/// slower on paper2 (7 spheres), 1% slower and 9% faster on paper3 (21: inconclusive), and
-/// 7–9% faster on `final` (486) (`results/perf.md`).
+/// tree: measured with `--accel`, the four-wide one was slower on paper2 (7 spheres),
+/// inconclusive on paper3 (21) and faster on `final` (486) (`results/perf.md`).
 pub const WIDE_MIN_SPHERES: usize = 64;
 
 /// A sphere whose box has at least this fraction of the half-area of the box around every

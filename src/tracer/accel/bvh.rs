@@ -1,5 +1,5 @@
 //! A bounding volume hierarchy over the spheres: test only the boxes and spheres along a
-//! ray's path instead of all ~480 of the book's final scene (8× faster there).
+//! ray's path instead of all ~480 of the book's final scene (`results/perf.md`).
 //!
 //! - **Build**: binned surface-area heuristic (SAH). At each node the sphere centres are
 //!   sorted into 16 bins along the widest axis; the split between bins that minimises
@@ -240,8 +240,8 @@ fn choose_split<T: Bounded>(spheres: &mut [T], bounds: &Aabb, leaf: usize) -> Op
     let split_cost = 1.0 + best.0 / bounds.half_area().max(Real::MIN_POSITIVE);
     // Up to `leaf` spheres stay together unless splitting more than halves the expected
     // work: in the four-wide tree, paper2's ground (radius 10⁴) grouped with three small
-    // spheres made every ray that enters the ground's box test all four (measured 0.88× the
-    // speed, `results/perf.md`).
+    // spheres made every ray that enters the ground's box test all four (slower,
+    // `results/perf.md`).
     // Up to MAX_LEAF, they stay together unless splitting saves anything.
     let leaf_cost = if n <= leaf { 0.5 * n as Real } else { n as Real };
     if best.0.is_infinite() || (split_cost >= leaf_cost && n <= MAX_LEAF) {

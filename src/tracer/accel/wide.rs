@@ -14,8 +14,7 @@
 //!   A waiting child whose entry distance is beyond the closest hit is skipped. A leaf's
 //!   spheres are tested one by one ([`WideBvh::intersect_each`]: the default, because a
 //!   scalar test stops at the first negative discriminant) or four at once in SIMD lanes
-//!   ([`WideBvh::intersect`]: 0.94–1.16× the time on `final` across six ablation runs,
-//!   slower in five, `results/perf.md`).
+//!   ([`WideBvh::intersect`]: slower on `final` in most ablation runs, `results/perf.md`).
 //! - **Exactness.** Ties go to the lower sphere index ([`Closest`]) and every box is padded
 //!   by the sphere test's own rounding bound (`bvh.rs`), so the hierarchy finds exactly the
 //!   hit that testing every sphere finds, whatever the order it visits them in.
@@ -237,11 +236,10 @@ impl WideBvh {
         let slab = Slab::new(ray);
         // Waiting children as one 8-byte word each (`Waiting`), written and read whole: a
         // `(child, entry)` pair was written field by field and read back whole, which defeats
-        // the CPU's forwarding of stores to loads (profiled: 10% of the time on one
-        // instruction); two stacks of 4-byte values avoided that but cost two pushes, two
-        // pops and two bounds checks (callgrind: the one word executes 4.3% fewer
-        // instructions on `final`). An ArrayVec, not an array: zeroing 1.5 KiB for every
-        // ray cost 40 ns of a 150 ns traversal.
+        // the CPU's forwarding of stores to loads; two stacks of 4-byte values avoided that
+        // but cost two pushes, two pops and two bounds checks. An ArrayVec, not an array:
+        // zeroing the whole stack for every ray cost more than a short traversal
+        // (`results/history/comment-figures.md`).
         let mut waiting: ArrayVec<Waiting, STACK> = ArrayVec::new();
         let mut child = ROOT;
         loop {
@@ -293,10 +291,8 @@ impl WideBvh {
 
 /// The slot of a leaf of `count` spheres (1 to [`LANES`]) from scene sphere `start` on: [`LEAF`],
 /// then `start`, then `count - 1` in the low [`LEAF_COUNT_BITS`]. Visiting a leaf thus needs no
-/// load before its spheres' own. When the slot held a packet's index and the range came from
-/// the packet, the default traversal executed 4.3% more instructions on `final` (callgrind,
-/// 560.3 M against 537.1 M); the packet test now pays that lookup instead (+2.5%), being only
-/// the ablation's comparison.
+/// load before its spheres' own. The packet test, only the ablation's comparison, pays the
+/// lookup of its packet instead (`results/history/comment-figures.md`).
 fn leaf_slot(start: usize, count: usize) -> u32 {
     assert!((1..=LANES).contains(&count), "a leaf of {count} spheres");
     let start = u32::try_from(start).ok().filter(|&s| s < LEAF >> LEAF_COUNT_BITS);
@@ -347,8 +343,7 @@ pub(super) struct Slab {
     /// `inv_dir` scaled by [`SLAB_ROUNDING`], for the exit distances: scaled once per ray
     /// instead of once per exit distance, which carries as many roundings as pbrt's (the
     /// reciprocal, this scaling, the subtraction, the product; pbrt scales last), so its
-    /// bound still holds; one multiplication less per axis and node (3% more triangle
-    /// rays/s, `results/perf.md`).
+    /// bound still holds; one multiplication less per axis and node (`results/perf.md`).
     pub(super) inv_exit: [Real; 3],
     /// Per axis, 0 when the ray travels towards +axis (it enters at the lower corner), else 1.
     pub(super) near_corner: [usize; 3],

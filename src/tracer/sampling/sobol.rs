@@ -106,8 +106,8 @@ impl RandomStreams for SobolStreams {
 
 /// How many pairs of a pixel's dimension sets keep their keys for the pixel's next samples:
 /// sets 0 to 3, the camera's and those of bounces 0 to 5, more than almost every path uses.
-/// (Keeping the first light samples' and aims' keys too gave `cornell` about 1% and cost
-/// `paper1`, whose pixels take few short samples, 2%: paired, 9 pairs each.)
+/// (Keeping the first light samples' and aims' keys too gained on `cornell` less than it
+/// cost `paper1`, whose pixels take few short samples: `results/history/comment-figures.md`.)
 const KEPT_PAIRS: usize = 2;
 
 /// One pixel's Sobol streams: its scramble seed and, made the first time a sample needs them,

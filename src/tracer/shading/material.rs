@@ -74,7 +74,7 @@ pub struct Scatter {
 impl Material {
     /// Scatters a ray arriving along the unit vector `incoming` at `hit`; `None` = absorbed.
     /// Forced inline into the render loop: left to the compiler it became a call once the
-    /// sphere warp's sine and cosine were inlined, and `final` took 2.6% more instructions.
+    /// sphere warp's sine and cosine were inlined (`results/history/comment-figures.md`).
     /// `textures` is only read by [`Material::Textured`].
     #[inline(always)]
     pub fn scatter<R: Rng + ?Sized>(
