@@ -8,13 +8,14 @@
 //! (the passes run on our schedulers and pools, never on the server's threads),
 //! [`crate::measure::machine`] (the CPUs, for its thread limit), [`crate::files`] and
 //! [`crate::scenes`]. Nothing uses it but `main.rs`. [`session`] owns the one render at a
-//! time, [`preview`] its navigation frames while the camera moves, [`events`] what the pages
+//! time and renders its passes (`passes.rs` holds what they share), [`preview`] its navigation frames while the camera moves, [`events`] what the pages
 //! are told, [`request`] turns a request into a checked render, [`http`] reads requests under caps
 //! and deadlines, [`server`] answers them to the page's own origin only, and `page.html` is
 //! the page.
 
 pub mod events;
 pub mod http;
+mod passes;
 pub mod preview;
 pub mod request;
 pub mod server;

@@ -6,7 +6,7 @@
 //! next tile, so it stops within one tile's time), waits for its thread, and starts the new
 //! one. The render thread runs passes of 1, 1, 2, 4, 8, 16, 16, … samples per pixel (so 1, 2,
 //! 4, 8, 16, 32, 48, … accumulated; fewer per pass for big tiles or wide rows, see
-//! `MAX_JOB_SAMPLES`) up to `--spp`, each pass one batch of tiles on the chosen scheduler; every
+//! `passes.rs`'s `MAX_JOB_SAMPLES`) up to `--spp`, each pass one batch of tiles on the chosen scheduler; every
 //! finished tile becomes an event for the pages, and every finished pass becomes the image that
 //! `/image.pfm` serves, which is the image `raypool render` makes at that many samples.
 //! Guided (`--guiding on`), the passes follow `render`'s plan ([`crate::schedule::guided`]):
@@ -36,24 +36,15 @@ use crate::schedule::frame::Frame;
 use crate::schedule::guided::Plan;
 use crate::schedule::kept::KeptPool;
 use crate::schedule::modes::render;
-use crate::schedule::progressive::{Cancel, Pass, Sums};
-use crate::schedule::random::RngSource;
-use crate::tracer::lights::LightSampling;
-use crate::tracer::render::TileOutput;
+use crate::schedule::progressive::{Cancel, Pass};
+use crate::tracer::render::{RenderJob, TileOutput};
 use crate::view::events::{frame_event, preview_event, start_event, tile_event};
+use crate::view::passes::Passes;
 use crate::view::preview::{Preview, StartResolution, camera_rested, render_preview};
 use crate::view::request::Config;
 
 /// Events a page may fall behind by before it is dropped.
 const QUEUE: usize = 8192;
-
-/// The most samples one job may take: a 16 × 16 tile at 16 samples per pixel (a few
-/// milliseconds of `final`). Passes double (1, 1, 2, 4, 8, 16, …) and then stay at the size that keeps a
-/// job (a tile, or a row in the row modes) within this, so a cancel, which each job checks
-/// before it starts, takes effect within one short job whatever the tile size or width (the
-/// viewer's tiles are at most [`MAX_TILE`](crate::view::request::MAX_TILE) wide and its rows
-/// at most 4,096 pixels: one sample per pixel at most fits).
-const MAX_JOB_SAMPLES: u32 = 16 * 16 * 16;
 
 /// The latest finished pass.
 #[derive(Clone, Debug)]
@@ -343,67 +334,73 @@ impl Session {
         if config.preview && !(self.navigate(generation, config, cancel) && camera_rested(cancel)) {
             return;
         }
-        let settings = config.job.settings;
-        let sums = Sums::default();
-        let rng = RngSource::new(&settings, config.rng);
-        let started = Instant::now();
-        let (mut done, mut pass) = (0, 0);
-        let splatted = settings.light_sampling == LightSampling::Bdpt;
-        // A job renders a tile, or a whole row in the row modes.
-        let job_pixels = (config.tile * config.tile).max(settings.width);
-        let pass_most = (MAX_JOB_SAMPLES / job_pixels).max(1);
+        let mut passes = Passes::new(generation, config, cancel);
         // `render`'s passes (one of every sample unless guided), each cut into ours.
+        let settings = &config.job.settings;
         let mut plan = Plan::new(&config.job.scene, settings.spp, settings.guiding);
         while let Some(guided) = plan.next_pass() {
             let job = Arc::new(guided.job(&config.job, true));
-            while done < guided.samples.end {
-                if cancel.is_cancelled() {
+            while passes.done < guided.samples.end {
+                if !self.render_pass(&mut passes, &job, guided.samples.end) {
                     return;
                 }
-                let more = if done == 0 { 1 } else { done.min(pass_most).min(guided.samples.end - done) };
-                pass += 1;
-                let lanes: Arc<Mutex<Vec<ThreadId>>> = Arc::default();
-                let hook = {
-                    let (session, lanes) = (Arc::clone(self), Arc::clone(&lanes));
-                    Arc::new(move |out: &TileOutput| {
-                        if let Some(event) = tile_event(generation, pass, done + more, out, &lanes) {
-                            session.broadcast(Kind::Tile { pass }, event);
-                        }
-                    })
-                };
-                let frame =
-                    Frame::new(Arc::clone(&job), rng.clone(), config.threads, config.tile, Arc::new(|_| {}))
-                        .with_pass(Pass { samples: done..done + more, sums: Arc::clone(&sums), counts: None })
-                        .with_cancel(cancel.clone())
-                        .with_tile_hook(hook);
-                let pass_start = Instant::now();
-                let rendered = render(&Arc::new(frame), &self.pool.with_mode(config.mode));
-                if cancel.is_cancelled() {
-                    return;
-                }
-                done += more;
-                let seconds = pass_start.elapsed().as_secs_f64();
-                let (rays, imbalance) = (rendered.rays, rendered.imbalance());
-                let snapshot = Arc::new(Snapshot { generation, spp: done, image: rendered.image });
-                *self.latest.lock() = Some(Arc::clone(&snapshot));
-                if splatted {
-                    // bdpt's light paths lit pixels of other tiles than their own, which the
-                    // tiles' events do not show: the whole image, once per pass, does.
-                    self.broadcast(Kind::Frame, self.frame_event_of(&snapshot).to_string());
-                }
-                self.broadcast(
-                    Kind::Pass,
-                    json!({
-                        "type": "pass", "gen": generation, "pass": pass, "spp": done, "seconds": seconds,
-                        "elapsed": started.elapsed().as_secs_f64(), "rays": rays,
-                        "mrays": rays as f64 / seconds.max(1e-9) / 1e6, "imbalance": imbalance,
-                    })
-                    .to_string(),
-                );
             }
         }
         if !cancel.is_cancelled() {
+            let done = passes.done;
             self.broadcast(Kind::Done, json!({ "type": "done", "gen": generation, "spp": done }).to_string());
         }
+    }
+
+    /// Renders the next of `passes` (of `job`, up to sample `end`) and announces its tiles,
+    /// its image and its figures; `false` if the render was cancelled meanwhile.
+    fn render_pass(self: &Arc<Session>, passes: &mut Passes, job: &Arc<RenderJob>, end: u32) -> bool {
+        if passes.cancel.is_cancelled() {
+            return false;
+        }
+        let (generation, done) = (passes.generation, passes.done);
+        let more = if done == 0 { 1 } else { done.min(passes.most).min(end - done) };
+        passes.pass += 1;
+        let pass = passes.pass;
+        let lanes: Arc<Mutex<Vec<ThreadId>>> = Arc::default();
+        let hook = {
+            let (session, lanes) = (Arc::clone(self), Arc::clone(&lanes));
+            Arc::new(move |out: &TileOutput| {
+                if let Some(event) = tile_event(generation, pass, done + more, out, &lanes) {
+                    session.broadcast(Kind::Tile { pass }, event);
+                }
+            })
+        };
+        let config = passes.config;
+        let frame =
+            Frame::new(Arc::clone(job), passes.rng.clone(), config.threads, config.tile, Arc::new(|_| {}))
+                .with_pass(Pass { samples: done..done + more, sums: Arc::clone(&passes.sums), counts: None })
+                .with_cancel(passes.cancel.clone())
+                .with_tile_hook(hook);
+        let pass_start = Instant::now();
+        let rendered = render(&Arc::new(frame), &self.pool.with_mode(config.mode));
+        if passes.cancel.is_cancelled() {
+            return false;
+        }
+        passes.done += more;
+        let seconds = pass_start.elapsed().as_secs_f64();
+        let (rays, imbalance) = (rendered.rays, rendered.imbalance());
+        let snapshot = Arc::new(Snapshot { generation, spp: passes.done, image: rendered.image });
+        *self.latest.lock() = Some(Arc::clone(&snapshot));
+        if passes.splatted {
+            // bdpt's light paths lit pixels of other tiles than their own, which the tiles'
+            // events do not show: the whole image, once per pass, does.
+            self.broadcast(Kind::Frame, self.frame_event_of(&snapshot).to_string());
+        }
+        self.broadcast(
+            Kind::Pass,
+            json!({
+                "type": "pass", "gen": generation, "pass": pass, "spp": passes.done, "seconds": seconds,
+                "elapsed": passes.started.elapsed().as_secs_f64(), "rays": rays,
+                "mrays": rays as f64 / seconds.max(1e-9) / 1e6, "imbalance": imbalance,
+            })
+            .to_string(),
+        );
+        true
     }
 }
