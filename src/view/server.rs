@@ -136,8 +136,8 @@ fn state(session: &Session) -> String {
         "gen": generation, "scene": config.name, "scenes": BUILTINS.iter().map(|b| b.name).collect::<Vec<_>>(),
         "mode": config.mode.name(), "modes": Schedule::ALL.map(Schedule::name), "threads": config.threads, "tile": config.tile,
         "rng": if config.rng == RngChoice::Shared { "shared" } else { "per-sample" }, "sampler": settings.sampler.name(),
-        "light-sampling": settings.light_sampling.name(), "width": settings.width, "height": settings.height, "spp": settings.spp,
-        "denoise": config.denoise,
+        "light-sampling": settings.light_sampling.name(), "guiding": if settings.guiding.is_some() { "on" } else { "off" },
+        "width": settings.width, "height": settings.height, "spp": settings.spp, "denoise": config.denoise,
     })
     .to_string()
 }
