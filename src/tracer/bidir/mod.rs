@@ -8,7 +8,7 @@
 //!
 //! Read in this order: a path's [`vertex`] and its densities; the [`walk`] that makes both
 //! paths, and the densities it measures through [`chain`]s of mirrors and glass; the
-//! [`weight`] of a connection; the [`connect`]ions of one sample; the [`splat`]s
+//! [`weight`] of a connection; the [`connect`]ions of one sample; the [`splats`](crate::tracer::splats)
 //! that light paths leave in other pixels, summed in fixed point so the image stays
 //! bit-identical whatever the schedule.
 

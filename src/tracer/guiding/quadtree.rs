@@ -118,7 +118,7 @@ impl Quadtree {
 
     /// The cut the next pass learns into, from this one's `energy` (per node and slot): a
     /// slot is cut into four if it holds more than `threshold` of the total energy (Müller et
-    /// al.'s ρ = 0.01), down to [`MAX_DEPTH`]; where this cut has a leaf, its energy is taken
+    /// al.'s ρ = 0.01), down to `MAX_DEPTH`; where this cut has a leaf, its energy is taken
     /// as spread evenly over the four quarters. Nothing learnt: the root alone.
     pub fn refined(&self, energy: &[[f64; 4]], threshold: f64) -> Quadtree {
         let total: f64 = energy[0].iter().sum();
