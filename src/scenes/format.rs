@@ -207,16 +207,24 @@ impl SceneFile {
         }
     }
 
-    /// The top level's shape lists.
+    /// The top level's shape lists (every field named, so that a new one is a compile error
+    /// here).
     pub fn shapes(&self) -> Shapes<'_> {
-        Shapes {
-            spheres: &self.spheres,
-            quads: &self.quads,
-            boxes: &self.boxes,
-            triangles: &self.triangles,
-            meshes: &self.meshes,
-            media: &self.media,
-        }
+        let SceneFile {
+            camera: _,
+            background: _,
+            materials: _,
+            textures: _,
+            spheres,
+            quads,
+            boxes,
+            triangles,
+            meshes,
+            media,
+            groups: _,
+            assets: _,
+        } = self;
+        Shapes { spheres, quads, boxes, triangles, meshes, media }
     }
 
     /// Every shape list: the top level's, then each group's.

@@ -206,20 +206,15 @@ pub struct GroupSpec {
 }
 
 impl GroupSpec {
-    /// Its shape lists.
+    /// Its shape lists (every field named, so that a new one is a compile error here).
     pub fn shapes(&self) -> Shapes<'_> {
-        Shapes {
-            spheres: &self.spheres,
-            quads: &self.quads,
-            boxes: &self.boxes,
-            triangles: &self.triangles,
-            meshes: &self.meshes,
-            media: &self.media,
-        }
+        let GroupSpec { transform: _, spheres, quads, boxes, triangles, meshes, media } = self;
+        Shapes { spheres, quads, boxes, triangles, meshes, media }
     }
 }
 
-/// The lists of shapes a scene or a group holds, as the checks and the build read them.
+/// The lists of shapes a scene or a group holds, as the checks and the build read them. Each
+/// of those names every list (no `..`), so a new shape's list is a compile error in each.
 #[derive(Clone, Copy, Debug)]
 pub struct Shapes<'a> {
     /// `[[sphere]]` tables.
@@ -257,7 +252,8 @@ impl TransformSpec {
 impl<'a> Shapes<'a> {
     /// Checks every shape; `at` names where they are (`""` or `"group #2 "`).
     pub fn check(self, looks: &Looks, at: &str) -> Result<(), String> {
-        for (i, s) in self.spheres.iter().enumerate() {
+        let Shapes { spheres, quads, boxes, triangles, meshes, media } = self;
+        for (i, s) in spheres.iter().enumerate() {
             let name = format!("{at}sphere #{} (center {:?})", i + 1, s.center);
             check(finite3(s.center), || format!("{at}sphere #{}: center must be finite numbers", i + 1))?;
             check(representable(s.radius) && s.radius != 0.0, || {
@@ -266,7 +262,7 @@ impl<'a> Shapes<'a> {
             check(s.center1.is_none_or(finite3), || format!("{name}: center1 must be finite numbers"))?;
             looks.check_material(&s.material).map_err(|e| format!("{name}: {e}"))?;
         }
-        for (i, q) in self.quads.iter().enumerate() {
+        for (i, q) in quads.iter().enumerate() {
             let name = format!("{at}quad #{}", i + 1);
             check(finite3(q.q) && finite3(q.u) && finite3(q.v), || {
                 format!("{name}: q, u, v must be finite numbers")
@@ -276,13 +272,13 @@ impl<'a> Shapes<'a> {
             })?;
             looks.check_material(&q.material).map_err(|e| format!("{name}: {e}"))?;
         }
-        for (i, b) in self.boxes.iter().enumerate() {
+        for (i, b) in boxes.iter().enumerate() {
             let name = format!("{at}box #{}", i + 1);
             check_box(b.min, b.max).map_err(|e| format!("{name}: {e}"))?;
             b.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
             looks.check_material(&b.material).map_err(|e| format!("{name}: {e}"))?;
         }
-        for (i, t) in self.triangles.iter().enumerate() {
+        for (i, t) in triangles.iter().enumerate() {
             let name = format!("{at}triangle #{}", i + 1);
             check(t.vertices.iter().all(|&v| finite3(v)), || {
                 format!("{name}: vertices must be finite numbers")
@@ -292,7 +288,7 @@ impl<'a> Shapes<'a> {
             })?;
             looks.check_material(&t.material).map_err(|e| format!("{name}: {e}"))?;
         }
-        for (i, m) in self.meshes.iter().enumerate() {
+        for (i, m) in meshes.iter().enumerate() {
             let name = format!("{at}mesh #{}", i + 1);
             check(m.obj.is_some() != m.generate.is_some(), || {
                 format!("{name}: needs exactly one of obj and generate")
@@ -306,7 +302,7 @@ impl<'a> Shapes<'a> {
             m.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
             looks.check_material(&m.material).map_err(|e| format!("{name}: {e}"))?;
         }
-        for (i, m) in self.media.iter().enumerate() {
+        for (i, m) in media.iter().enumerate() {
             let name = format!("{at}medium #{}", i + 1);
             check(representable(m.density) && m.density >= 0.0, || {
                 format!("{name}: density must be finite (as {REAL}) and ≥ 0, got {}", m.density)
@@ -327,31 +323,34 @@ impl<'a> Shapes<'a> {
         Ok(())
     }
 
-    /// Every shape's material reference, in order.
+    /// Every shape's material reference, in order (a medium has none: its phase function is
+    /// made from its albedo).
     pub fn material_refs(self) -> impl Iterator<Item = &'a MaterialRef> {
-        let s = self.spheres.iter().map(|x| &x.material);
-        let q = self.quads.iter().map(|x| &x.material);
-        let b = self.boxes.iter().map(|x| &x.material);
-        let t = self.triangles.iter().map(|x| &x.material);
-        s.chain(q).chain(b).chain(t).chain(self.meshes.iter().map(|x| &x.material))
+        let Shapes { spheres, quads, boxes, triangles, meshes, media: _ } = self;
+        let s = spheres.iter().map(|x| &x.material);
+        let q = quads.iter().map(|x| &x.material);
+        let b = boxes.iter().map(|x| &x.material);
+        let t = triangles.iter().map(|x| &x.material);
+        s.chain(q).chain(b).chain(t).chain(meshes.iter().map(|x| &x.material))
     }
 
     /// The (checked) shapes as static spheres and objects, their materials added to `tables`;
-    /// `media` counts the media made so far (each gets its own id).
+    /// `made` counts the media made so far (each gets its own id).
     pub fn build(
         self,
         looks: &Looks,
         assets: &Assets,
         tables: &mut Tables,
-        media: &mut u32,
+        made: &mut u32,
     ) -> (Vec<Sphere>, Vec<Object>) {
+        let Shapes { spheres, quads, boxes, triangles, meshes, media } = self;
         let mut material = |m: &MaterialRef| tables.material(looks, assets, m);
-        let mut spheres = Vec::new();
+        let mut still = Vec::new();
         let mut objects = Vec::new();
-        for s in self.spheres {
+        for s in spheres {
             let (center, radius, material) = (vec3(s.center), s.radius as Real, material(&s.material));
             match s.center1 {
-                None => spheres.push(Sphere { center, radius, material }),
+                None => still.push(Sphere { center, radius, material }),
                 Some(c1) => objects.push(Object::Moving(MovingSphere {
                     center0: center,
                     center1: vec3(c1),
@@ -360,19 +359,19 @@ impl<'a> Shapes<'a> {
                 })),
             }
         }
-        for q in self.quads {
+        for q in quads {
             let quad = Quad::new(vec3(q.q), vec3(q.u), vec3(q.v), material(&q.material))
                 .expect("checked: not degenerate");
             objects.push(Object::Quad(quad));
         }
-        for b in self.boxes {
+        for b in boxes {
             let faces = box_objects(b.min, b.max, material(&b.material));
             objects.extend(placed(faces, b.transform.as_ref()));
         }
-        if !self.triangles.is_empty() {
+        if !triangles.is_empty() {
             // Loose triangles: one mesh per material, in the order written.
             let mut by_material: Vec<(u32, Vec<Vec3>)> = Vec::new();
-            for t in self.triangles {
+            for t in triangles {
                 let m = material(&t.material);
                 let at = by_material.iter().position(|(k, _)| *k == m).unwrap_or_else(|| {
                     by_material.push((m, Vec::new()));
@@ -384,12 +383,12 @@ impl<'a> Shapes<'a> {
                 objects.push(Object::Mesh(std::sync::Arc::new(assets.soup(corners)), m));
             }
         }
-        for m in self.meshes {
+        for m in meshes {
             let mesh = assets.mesh(m.obj.as_deref(), m.generate.as_ref(), m.scale);
             let object = Object::Mesh(mesh, material(&m.material));
             objects.extend(placed(vec![object], m.transform.as_ref()));
         }
-        for m in self.media {
+        for m in media {
             let boundary = match m.boundary {
                 BoundarySpec::Sphere { center, radius } => {
                     vec![Object::Sphere(Sphere { center: vec3(center), radius: radius as Real, material: 0 })]
@@ -401,12 +400,12 @@ impl<'a> Shapes<'a> {
                 boundary: Group::new(boundary),
                 density: m.density as Real,
                 material: phase,
-                id: *media,
+                id: *made,
             };
-            *media += 1;
+            *made += 1;
             objects.extend(placed(vec![Object::Medium(Box::new(medium))], m.transform.as_ref()));
         }
-        (spheres, objects)
+        (still, objects)
     }
 }
 

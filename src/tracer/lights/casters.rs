@@ -265,7 +265,12 @@ impl Casters {
                 Material::Dielectric { ior, fresnel } => Some(Ball { fresnel, ..Ball::new(*sphere, ior) }),
                 _ => None,
             },
-            _ => None,
+            Object::Sphere(_)
+            | Object::Moving(_)
+            | Object::Quad(_)
+            | Object::Mesh(..)
+            | Object::Instance(_)
+            | Object::Medium(_) => None,
         });
         let middle = 0.5 * (lamps.min + lamps.max);
         let lamps = Lamps { center: middle, radius: (lamps.max - middle).length() };

@@ -181,8 +181,9 @@ pub(super) fn gather(
             Object::Instance(instance) => {
                 gather(instance.group.objects(), &instance.transform.then(place), materials, found, shaded)
             }
-            // A medium's boundary gives off nothing (it is not a surface a ray meets).
-            _ => {}
+            // A dark quad or mesh gives off nothing, nor does a medium's boundary (it is not a
+            // surface a ray meets).
+            Object::Quad(_) | Object::Mesh(..) | Object::Medium(_) => {}
         }
     }
 }

@@ -7,12 +7,9 @@
 //! [`Medium`]): an object may be made of objects, so these types are one recursive family, and
 //! one file keeps the imports free of circles.
 
-use crate::tracer::accel::bvh::Bvh;
-use crate::tracer::accel::wide::WideBvh;
 use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
-use crate::tracer::geometry::quads::LANES;
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
@@ -20,6 +17,7 @@ use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::world::mesh::Mesh;
 pub use crate::tracer::world::probe::Probe;
+use crate::tracer::world::runs;
 use crate::tracer::world::runs::{Best, Item, Kind, Runs};
 use std::sync::Arc;
 
@@ -64,7 +62,7 @@ impl Object {
         match self {
             Object::Sphere(sphere) => sphere.with_uv(hit),
             Object::Moving(moving) => moving.at(probe.time).with_uv(hit),
-            _ => hit,
+            Object::Quad(_) | Object::Mesh(..) | Object::Instance(_) | Object::Medium(_) => hit,
         }
     }
 
@@ -102,7 +100,7 @@ impl Object {
         match self {
             Object::Mesh(mesh, _) => mesh.has_normals(),
             Object::Instance(instance) => instance.group.objects().iter().any(Object::has_shading_normals),
-            _ => false,
+            Object::Sphere(_) | Object::Moving(_) | Object::Quad(_) | Object::Medium(_) => false,
         }
     }
 
@@ -112,7 +110,7 @@ impl Object {
             Object::Moving(m) => (m.center0 != m.center1, false),
             Object::Medium(_) => (false, true),
             Object::Instance(instance) => instance.group.needs(),
-            _ => (false, false),
+            Object::Sphere(_) | Object::Quad(_) | Object::Mesh(..) => (false, false),
         }
     }
 }
@@ -140,8 +138,12 @@ impl Bounded for Object {
     fn centroid(&self) -> Vec3 {
         match self {
             Object::Sphere(s) => s.center,
-            other => {
-                let b = other.bounds();
+            Object::Moving(_)
+            | Object::Quad(_)
+            | Object::Mesh(..)
+            | Object::Instance(_)
+            | Object::Medium(_) => {
+                let b = self.bounds();
                 0.5 * (b.min + b.max)
             }
         }
@@ -162,14 +164,6 @@ impl Bounded for Object {
 /// as their tree's leaves, the order in which ties go to the lower index.
 pub const TREE_MIN_OBJECTS: usize = 6;
 
-/// Groups of at most this many objects are searched without their tree, run after run (an
-/// instance's only once the ray enters its box): a tree's traversal costs more than it saves
-/// there.
-const FLAT_MAX_OBJECTS: usize = 8;
-
-/// Objects per leaf of a group's four-wide tree: one run each.
-const LEAF: usize = LANES;
-
 /// Objects, and how they are searched: a tree over them (none for small groups, or when
 /// asked for none), the runs of its leaves, and the media apart (`runs.rs`).
 #[derive(Clone, Debug)]
@@ -184,22 +178,18 @@ pub struct Group {
 
 impl Group {
     /// A group of `objects`, ordered by a tree if there are at least [`TREE_MIN_OBJECTS`] of
-    /// them, and searched through it if there are more than [`FLAT_MAX_OBJECTS`].
+    /// them, and searched through it if there are more than [`runs::FLAT_MAX_OBJECTS`].
     pub fn new(objects: Vec<Object>) -> Group {
         let tree = objects.len() >= TREE_MIN_OBJECTS;
         Group::with_tree(objects, tree)
     }
 
     /// A group of `objects`, ordered by a tree and searched through it (if there are more than
-    /// [`FLAT_MAX_OBJECTS`]) or, with `tree` false, searched one run after another in their
-    /// current order.
+    /// [`runs::FLAT_MAX_OBJECTS`]) or, with `tree` false, searched one run after another in
+    /// their current order.
     pub fn with_tree(mut objects: Vec<Object>, tree: bool) -> Group {
         let bounds = objects.iter().map(Bounded::bounds).fold(Aabb::EMPTY, Aabb::union);
-        let mut tree = (tree && !objects.is_empty()).then(|| {
-            let binary = Bvh::build_with_leaves(&mut objects, LEAF);
-            WideBvh::collapse_plain(&binary, objects.len())
-        });
-        tree = tree.filter(|_| objects.len() > FLAT_MAX_OBJECTS);
+        let tree = if tree { runs::ordered(&mut objects) } else { None };
         let items: Vec<Item> = objects
             .iter()
             .map(|object| Item {
@@ -209,7 +199,7 @@ impl Group {
                     Object::Quad(quad) => Kind::Quad(quad),
                     Object::Sphere(_) => Kind::Sphere,
                     Object::Medium(_) => Kind::Medium,
-                    _ => Kind::Other,
+                    Object::Moving(_) | Object::Mesh(..) | Object::Instance(_) => Kind::Other,
                 },
             })
             .collect();

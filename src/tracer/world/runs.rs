@@ -19,6 +19,22 @@ use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 
+/// Groups of at most this many objects are searched without their tree, run after run (an
+/// instance's only once the ray enters its box): a tree's traversal costs more than it saves
+/// there.
+pub const FLAT_MAX_OBJECTS: usize = 8;
+
+/// Orders `objects` as the leaves of a four-wide tree over their boxes (a leaf, one run, of up
+/// to [`LANES`] each), and gives that tree if there are more than [`FLAT_MAX_OBJECTS`] of them.
+pub fn ordered<T: Bounded>(objects: &mut [T]) -> Option<WideBvh> {
+    if objects.is_empty() {
+        return None;
+    }
+    let binary = Bvh::build_with_leaves(objects, LANES);
+    let tree = WideBvh::collapse_plain(&binary, objects.len());
+    (objects.len() > FLAT_MAX_OBJECTS).then_some(tree)
+}
+
 /// What the search needs to know of one of a group's objects.
 pub struct Item<'a> {
     /// Its box.
