@@ -412,16 +412,6 @@ fn a_request_that_names_one_setting_changes_only_that_one() {
     assert_eq!(state(&viewer)["light-sampling"].as_str(), Some("bsdf"));
     assert_eq!(settings(&state(&viewer)), cornell(256, "steal", 1));
 
-    // So does its guiding control; a combination the command line refuses is refused alike.
-    assert_eq!(state(&viewer)["guiding"].as_str(), Some("off"));
-    assert_eq!(viewer.post("/render?guiding=on", b"").0, 202);
-    assert_eq!(state(&viewer)["guiding"].as_str(), Some("on"));
-    let (status, body) = viewer.post("/render?light-sampling=bdpt", b"");
-    assert_eq!((status, body.contains("--guiding on")), (400, true), "{body}");
-    assert_eq!(viewer.post("/render?guiding=off", b"").0, 202);
-    assert_eq!(state(&viewer)["guiding"].as_str(), Some("off"));
-    assert_eq!(settings(&state(&viewer)), cornell(256, "steal", 1));
-
     // A height named stays until `height=auto` returns to the scene's aspect (square here).
     assert_eq!(viewer.post("/render?height=20", b"").0, 202);
     assert_eq!(state(&viewer)["height"].as_u64(), Some(20));

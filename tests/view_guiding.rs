@@ -6,7 +6,7 @@
 //! samples, so it cuts a learning pass in two (its statistics then summed over both) and
 //! must stop a pass at the plan's next pass. The second is also a camera move, whose guides
 //! are learnt again from the start; then `guiding=off` renders without a guide, as `render`
-//! does without the flag.
+//! does without the flag. And the page's guiding control, as a request sends it.
 
 mod common;
 
@@ -60,4 +60,23 @@ fn a_guided_render_in_the_viewer_is_the_command_lines_image() {
     let unguided = served_image(&viewer, 3);
     assert!(unguided == viewer.cli_render(&["--width", "72", "--spp", "16"], "cli.pfm"), "guiding off");
     assert!(unguided != moved, "the guide changed no pixel: the test would not see one ignored");
+}
+
+/// The page's guiding control: `/state` reports it, `guiding=on` reaches the render and
+/// changes no other setting, and a combination the command line refuses (bdpt with guiding)
+/// is refused alike, in one line.
+#[test]
+fn the_pages_guiding_control_reaches_the_render_and_is_refused_where_the_command_line_is() {
+    let viewer = Viewer::start(&["--scene", "cornell", "--width", "32", "--spp", "64", "--threads", "2"]);
+    let state = || -> serde_json::Value { serde_json::from_slice(&viewer.get("/state").1).unwrap() };
+    let others = |s: &serde_json::Value| (s["light-sampling"].clone(), s["spp"].clone(), s["width"].clone());
+    let before = state();
+    assert_eq!(before["guiding"].as_str(), Some("off"));
+    assert_eq!(viewer.post("/render?guiding=on", b"").0, 202);
+    assert_eq!(state()["guiding"].as_str(), Some("on"));
+    assert_eq!(others(&state()), others(&before), "only guiding changed");
+    let (status, body) = viewer.post("/render?light-sampling=bdpt", b"");
+    assert_eq!((status, body.contains("--guiding on")), (400, true), "{body}");
+    assert_eq!(viewer.post("/render?guiding=off", b"").0, 202);
+    assert_eq!(state()["guiding"].as_str(), Some("off"));
 }
