@@ -113,6 +113,25 @@ impl Bvh {
         self.nodes[at].bounds.half_area()
     }
 
+    /// The nodes that become the children of a node `width` wide collapsed from inner node
+    /// `at`: its two children, then, while there are fewer than `width`, the inner one of
+    /// largest surface area (the likeliest to be entered) opened into its own two, until only
+    /// leaves are left. The wide trees (`wide.rs`, `wide8.rs`) are collapsed so.
+    pub(crate) fn collapsed_children(&self, at: usize, width: usize) -> Vec<usize> {
+        let (left, right) = self.children(at).expect("an inner node");
+        let mut open = vec![left, right];
+        while open.len() < width {
+            let widest = (0..open.len())
+                .filter(|&k| self.leaf(open[k]).is_none())
+                .max_by(|&a, &b| self.half_area(open[a]).total_cmp(&self.half_area(open[b])));
+            let Some(k) = widest else { break };
+            let (left, right) = self.children(open[k]).expect("an inner node");
+            open[k] = left;
+            open.push(right);
+        }
+        open
+    }
+
     /// The closest sphere hit before `t_max`, as found by `test` (normally
     /// [`Sphere::intersect`](crate::tracer::geometry::sphere::Sphere::intersect)): `(index into spheres, t)`. Of two spheres hit at exactly the
     /// same distance, the one with the lower index is reported, as testing every sphere in

@@ -133,18 +133,7 @@ impl WideBvh {
             }
             return node as u32;
         }
-        // Open the largest inner child until the node is full or only leaves remain.
-        let (left, right) = binary.children(at).expect("an inner node");
-        let mut open = vec![left, right];
-        while open.len() < WIDTH {
-            let widest = (0..open.len())
-                .filter(|&k| binary.leaf(open[k]).is_none())
-                .max_by(|&a, &b| binary.half_area(open[a]).total_cmp(&binary.half_area(open[b])));
-            let Some(k) = widest else { break };
-            let (left, right) = binary.children(open[k]).expect("an inner node");
-            open[k] = left;
-            open.push(right);
-        }
+        let open = binary.collapsed_children(at, WIDTH);
         let node = self.nodes.len();
         self.nodes.push(Node { corner: EMPTY_CORNERS, children: [EMPTY; WIDTH] });
         for (slot, &b) in open.iter().enumerate() {
@@ -277,14 +266,8 @@ impl WideBvh {
                     continue;
                 }
             }
-            // Next, the nearest waiting child the closest hit so far does not rule out.
-            loop {
-                let Some(next) = waiting.pop() else { return };
-                if next.entry() <= closest.t {
-                    child = next.child();
-                    break;
-                }
-            }
+            let Some(next) = next_waiting(&mut waiting, closest.t) else { return };
+            child = next;
         }
     }
 }
@@ -305,6 +288,18 @@ fn leaf_slot(start: usize, count: usize) -> u32 {
 fn leaf_spheres(slot: u32) -> Range<usize> {
     let start = ((slot & !LEAF) >> LEAF_COUNT_BITS) as usize;
     start..start + (slot & (LANES as u32 - 1)) as usize + 1
+}
+
+/// Pops the nearest waiting child that a hit at `bound` does not rule out (one the ray enters
+/// no later than `bound`), dropping those it does; `None` when none is left.
+#[inline(always)]
+pub(super) fn next_waiting<const N: usize>(waiting: &mut ArrayVec<Waiting, N>, bound: Real) -> Option<u32> {
+    loop {
+        let next = waiting.pop()?;
+        if next.entry() <= bound {
+            return Some(next.child());
+        }
+    }
 }
 
 /// A child waiting on the traversal's stack: its slot value in the low 32 bits, a lower bound

@@ -27,7 +27,7 @@ use arrayvec::ArrayVec;
 
 use crate::tracer::accel::bvh::Bvh;
 use crate::tracer::accel::lanes::Lanes8;
-use crate::tracer::accel::wide::{Slab, Waiting};
+use crate::tracer::accel::wide::{Slab, Waiting, next_waiting};
 use crate::tracer::geometry::hit::Closest;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
@@ -126,17 +126,7 @@ impl Bvh8 {
             }
             return node as u32;
         }
-        let (left, right) = binary.children(at).expect("an inner node");
-        let mut open = vec![left, right];
-        while open.len() < WIDTH {
-            let widest = (0..open.len())
-                .filter(|&k| binary.leaf(open[k]).is_none())
-                .max_by(|&a, &b| binary.half_area(open[a]).total_cmp(&binary.half_area(open[b])));
-            let Some(k) = widest else { break };
-            let (left, right) = binary.children(open[k]).expect("an inner node");
-            open[k] = left;
-            open.push(right);
-        }
+        let open = binary.collapsed_children(at, WIDTH);
         let node = self.push_node();
         for (slot, &b) in open.iter().enumerate() {
             let child = self.child(binary, b, leaves);
@@ -200,14 +190,8 @@ impl Bvh8 {
                     continue;
                 }
             }
-            // Next, the nearest waiting child the closest hit so far does not rule out.
-            loop {
-                let Some(next) = waiting.pop() else { return };
-                if next.entry() <= closest.t {
-                    child = next.child();
-                    break;
-                }
-            }
+            let Some(next) = next_waiting(&mut waiting, closest.t) else { return };
+            child = next;
         }
     }
 }
