@@ -48,7 +48,7 @@ impl Isa {
 
     /// The level a search uses unless told otherwise: the widest the CPU has. A mesh's
     /// eight-wide search gains from AVX-512's thirty-two registers even in eight lanes; the
-    /// four-wide sphere tree neither gains nor loses (`results/embree.md`).
+    /// four-wide sphere tree neither gains nor loses (`results/simd.md`, `results/embree.md`).
     pub fn best() -> Isa {
         Isa::available().pop().unwrap_or(Isa::BASELINE)
     }
