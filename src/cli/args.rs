@@ -102,7 +102,7 @@ pub struct ImageArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Pixel samples' numbers: an Owen-scrambled Sobol sequence per pixel (stratified: the
-    /// same error in 0.3-0.6x the time, results/error.md), or independent numbers
+    /// same error in less time, results/error.md), or independent numbers
     /// [default: sobol; independent with --rng shared].
     #[arg(long, value_enum)]
     pub sampler: Option<Sampler>,

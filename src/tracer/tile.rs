@@ -128,8 +128,8 @@ impl FromStr for Shard {
 /// The running sums of a tile's pixels: each pixel's sample sum (f64) and sample count.
 ///
 /// The sum is f64, as pbrt's film: in f32 a sum of 2^20 samples near 0.4 is near 4·10⁵, where
-/// f32's spacing is 0.03, and every sample added is rounded to it (measured: up to 1.3·10⁻³
-/// relative at 2^20 samples, `results/accumulation.md`). Samples are always added in sample
+/// f32's spacing is 0.03, and every sample added is rounded to it (the error that leaves, measured:
+/// `results/accumulation.md`). Samples are always added in sample
 /// order, so a pixel's mean after `n` samples is the same bits however many passes added them.
 ///
 /// Odd-numbered samples are also summed apart: the pixel's two half-estimates (even and odd

@@ -164,10 +164,9 @@ impl Sphere {
 
 impl Bounded for Sphere {
     /// The sphere's box, padded by the sphere test's rounding: its computed hits can lie
-    /// outside the exact sphere (measured: the ground of `final`, radius 1000, was hit
-    /// 1.7·10⁻⁵ above its box's top, so the box was skipped and a farther sphere reported;
-    /// `results/perf.md`). The pad is 2 units of `ε·(|centre| + |radius|)`; that hit was 0.14
-    /// of one. New rays start 8 units off the surface ([`Sphere::spawn_offset`]), outside the
+    /// outside the exact sphere (the ground of `final`, radius 1000, was once hit above its
+    /// box's top, so the box was skipped and a farther sphere reported; `results/perf.md`).
+    /// The pad is 2 units of `ε·(|centre| + |radius|)`, far above that hit's distance. New rays start 8 units off the surface ([`Sphere::spawn_offset`]), outside the
     /// pad, so a ray leaving a sphere outwards still misses its box.
     fn bounds(&self) -> Aabb {
         let r = Vec3::splat(self.radius.abs() + 0.25 * self.spawn_offset());

@@ -227,8 +227,8 @@ impl Mesh {
     /// ([`Hit::departure`]): interpolated normals lean away from the flat facets, and a
     /// bounce drawn about one may point below the facet it leaves, into its own mesh. On a
     /// coarse mesh the smooth surface strays from the curve the mesh stands for by about as
-    /// much as the facets do (a sphere of 12 × 24 cells: up to 1.6% of its radius outside it,
-    /// where its facets sag up to 1.7% inside; of 4 × 8 cells, 8% outside and 14% inside).
+    /// much as the facets do, outside it where they sag inside (measured on two spheres:
+    /// `results/history/comment-figures.md`).
     fn lift(&self, point: Vec3, corners: [usize; 3], b: [Real; 3], side: Real, normal: Vec3) -> Real {
         let raised: Vec3 = (0..3)
             .map(|k| {
