@@ -1,7 +1,8 @@
 //! The viewer's page in a real browser: headless Chromium (Debian's `chromium`) loads it, lets
 //! it render, and the DOM must show a drawn image, one timeline lane per worker, a camera that
 //! orbits on a mouse drag (to the image the command line renders from there, byte for byte),
-//! the outline toggle, and a pasted scene's error.
+//! the outline toggle, and a pasted scene's error; and its guiding control, whose render is the
+//! command line's `--guiding on` image, byte for byte.
 //!
 //! Without Chromium the test says so and skips; under `.ci/run` (which installs it and sets
 //! `RAYPOOL_CI=1`) it fails instead.
@@ -130,4 +131,63 @@ fn the_page_renders_live_with_a_lane_per_worker_and_orbits() {
          let n = 0; for (let i = 3; i < d.length; i += 4) if (d[i] > 0) n++; return n; })()",
     );
     assert!(outlined.as_u64().unwrap() > 1000, "the late page outlines the tiles: {outlined}");
+}
+
+/// The page's guiding control, clicked as a user would: the render it starts is the command
+/// line's with `--guiding on`, byte for byte; bdpt with guiding is refused on the page in the
+/// command line's one line; and switching guiding off renders as without the flag.
+#[test]
+fn the_pages_guiding_control_renders_the_command_lines_guided_image() {
+    let Some(binary) = chromium() else {
+        assert!(
+            std::env::var_os("RAYPOOL_CI").is_none(),
+            "Chromium is required under .ci/run: apt-get install -y chromium"
+        );
+        deadline::skipped(
+            "the_pages_guiding_control_renders_the_command_lines_guided_image",
+            "chromium not installed (apt-get install -y chromium)",
+        );
+        return;
+    };
+    let flags = ["--scene", "cornell", "--width", "40", "--spp", "16", "--threads", "2"];
+    let viewer = Viewer::start(&flags);
+    let mut page = Browser::open(&binary, &viewer.url, (1100, 720));
+    page.wait_for(
+        "document.body.dataset.spp === '16' && document.getElementById('guiding').value === 'off'",
+        MINUTE,
+    );
+    let choose = |page: &mut Browser, id: &str, value: &str| {
+        page.eval(&format!(
+            "(() => {{ const c = document.getElementById('{id}'); c.value = '{value}'; \
+             c.dispatchEvent(new Event('change')); return true; }})()"
+        ));
+    };
+    let generation = |page: &mut Browser| page.eval("+document.body.dataset.gen").as_u64().unwrap();
+    let done_after = |page: &mut Browser, last: u64| {
+        page.wait_for(
+            &format!("+document.body.dataset.gen > {last} && document.body.dataset.spp === '16'"),
+            MINUTE,
+        );
+        std::thread::sleep(Duration::from_millis(300));
+        page.wait_for("document.body.dataset.spp === '16'", MINUTE);
+    };
+
+    let before = generation(&mut page);
+    choose(&mut page, "guiding", "on");
+    done_after(&mut page, before);
+    let state: serde_json::Value = serde_json::from_slice(&viewer.get("/state").1).unwrap();
+    assert_eq!(state["guiding"], "on", "the control reached the render: {state}");
+    let guided = viewer.get("/image.pfm").1;
+    let cli = viewer.cli_render(&["--width", "40", "--spp", "16", "--guiding", "on"], "guided.pfm");
+    assert!(guided == cli, "the page's guided render is not the command line's");
+
+    choose(&mut page, "light-sampling", "bdpt");
+    page.wait_for("document.getElementById('status').textContent.includes('--guiding on')", MINUTE);
+    choose(&mut page, "light-sampling", "mis");
+    let before = generation(&mut page);
+    choose(&mut page, "guiding", "off");
+    done_after(&mut page, before);
+    let unguided = viewer.get("/image.pfm").1;
+    assert!(unguided == viewer.cli_render(&["--width", "40", "--spp", "16"], "plain.pfm"), "guiding off");
+    assert!(unguided != guided, "the guide changed no pixel: the test would not see it ignored");
 }

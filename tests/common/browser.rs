@@ -12,6 +12,8 @@ use std::io::{BufRead, BufReader};
 use std::net::TcpStream;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration, Instant};
 
 use serde_json::{Value, json};
@@ -49,8 +51,10 @@ pub struct Browser {
 impl Browser {
     /// Starts Chromium with a `width × height` window and opens `url`.
     pub fn open(binary: &PathBuf, url: &str, (width, height): (u32, u32)) -> Browser {
-        let profile =
-            std::env::temp_dir().join(format!("raypool-chromium-{}-{}", std::process::id(), url.len()));
+        // A profile of its own: two Chromiums sharing one wait on its lock, and the second exits.
+        static OPENED: AtomicUsize = AtomicUsize::new(0);
+        let opened = OPENED.fetch_add(1, Ordering::SeqCst);
+        let profile = std::env::temp_dir().join(format!("raypool-chromium-{}-{opened}", std::process::id()));
         let _ = std::fs::remove_dir_all(&profile);
         let mut child = Command::new(binary)
             .args([
@@ -82,10 +86,17 @@ impl Browser {
                 }
             }
         });
-        let Ok(address) = rx.recv_timeout(STARTUP) else {
-            let _ = child.kill();
-            let _ = child.wait();
-            panic!("Chromium never printed its DevTools address within {STARTUP:?}");
+        let address = match rx.recv_timeout(STARTUP) {
+            Ok(address) => address,
+            Err(waited) => {
+                let _ = child.kill();
+                let status = child.wait();
+                let why = match waited {
+                    RecvTimeoutError::Timeout => format!("within {STARTUP:?}"),
+                    RecvTimeoutError::Disconnected => format!("before it exited ({status:?})"),
+                };
+                panic!("Chromium never printed its DevTools address {why}");
+            }
         };
         let (socket, _) = tungstenite::connect(address.as_str()).expect("DevTools WebSocket connects");
         if let MaybeTlsStream::Plain(stream) = socket.get_ref() {
