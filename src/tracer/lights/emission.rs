@@ -10,7 +10,7 @@
 
 use rand::Rng;
 
-use crate::tracer::lights::light::luminance;
+use crate::tracer::lights::luminance;
 use crate::tracer::lights::power::Lights;
 use crate::tracer::lights::sample::LightPoint;
 use crate::tracer::math::real::{Real, Vec3};
