@@ -311,11 +311,16 @@ mod compare {
         if let Some(name) = count {
             let Some((_, way)) = ways.iter().find(|(n, _)| Some(n) == name.as_ref()) else {
                 let names: Vec<_> = ways.iter().map(|(n, _)| n.as_str()).collect();
-                eprintln!("--count takes one of {}, not {name:?}", names.join(", "));
+                eprintln!("--count takes one of {}, not {:?}", names.join(", "), name.unwrap_or_default());
                 std::process::exit(2);
             };
             let (seconds, hits, _) = timed_pass(&rays, &triangles, *way);
-            println!("{name:?}: one pass, {} rays, {hits} hits, {:.1} ms", rays.len(), seconds * 1e3);
+            println!(
+                "{}: one pass, {} rays, {hits} hits, {:.1} ms",
+                name.unwrap_or_default(),
+                rays.len(),
+                seconds * 1e3
+            );
             return;
         }
 
@@ -348,18 +353,23 @@ mod compare {
             rays.len()
         );
         println!(
-            "| level | pulp median (ms) | fearless_simd median (ms) | fearless_simd ÷ pulp, median of paired ratios | range |"
+            "| level | pulp median (ms) | fearless_simd median (ms) | fearless_simd ÷ pulp, median of \
+             paired ratios | quartiles | rounds fearless_simd was faster |"
         );
-        println!("|---|---:|---:|---:|---:|");
+        println!("|---|---:|---:|---:|---:|---:|");
         for (pair, [ours, theirs]) in pairs.iter().zip(&seconds) {
-            let ratios: Vec<f64> = theirs.iter().zip(ours).map(|(t, o)| t / o).collect();
-            let (lo, hi) = ratios.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+            let mut ratios: Vec<f64> = theirs.iter().zip(ours).map(|(t, o)| t / o).collect();
+            ratios.sort_by(f64::total_cmp);
+            let quartile = |q: usize| ratios[q * (ratios.len() - 1) / 4];
             println!(
-                "| {} | {:.2} | {:.2} | **{:.3}** | {lo:.3}–{hi:.3} |",
+                "| {} | {:.2} | {:.2} | **{:.3}** | {:.3}–{:.3} | {} of {rounds} |",
                 pair.level,
                 median_of(ours) * 1e3,
                 median_of(theirs) * 1e3,
-                median_of(&ratios)
+                quartile(2),
+                quartile(1),
+                quartile(3),
+                ratios.iter().filter(|&&r| r < 1.0).count()
             );
         }
         for line in missing {
