@@ -1,4 +1,4 @@
-//! `cargo bench --bench simd_crates [-- --quick]`: the two maintained safe-SIMD crates issue
+//! `cargo bench --bench simd_crates --features simd-crates [-- --quick]`: the two maintained safe-SIMD crates issue
 //! #57 named, on raypool's own hot loop. The eight-wide mesh search ([`Bvh8::traverse`], generic
 //! over [`Lanes8`]) runs through `pulp` (the library's [`Avx8`], via [`Isa::run_lanes`]) and
 //! through `fearless_simd` ([`Fearless8`] below: the same trait over its `f32x8`, run with its
@@ -347,7 +347,7 @@ mod compare {
 
         println!("Machine: {}.", Machine::current().describe());
         println!(
-            "Command: `cargo bench --bench simd_crates{}`; {} rays ({width} × {height} camera rays and \
+            "Command: `cargo bench --bench simd_crates --features simd-crates{}`; {} rays ({width} × {height} camera rays and \
              their bounces), {hits} hits; one thread, {rounds} rounds.\n",
             if quick { " -- --quick" } else { "" },
             rays.len()
