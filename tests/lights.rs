@@ -335,3 +335,24 @@ fn a_shadow_ray_cast_by_chance_counts_one_over_its_chance() {
     let share = some_rays as f64 / all_rays as f64;
     assert!((share - 0.2).abs() < 0.01, "a fifth of the shadow rays, not {share}");
 }
+
+/// The mixture's density of a direction drawn towards a light (`Lights::pdf_toward`): with one
+/// light, the sample's own density, which is what `pdf` finds along it (to rounding); with
+/// several, `pdf` itself. Exact checks, no statistics.
+#[test]
+fn the_density_towards_a_drawn_point_is_pdfs_along_its_direction() {
+    let lamp = Quad::new(Vec3::new(-0.5, 2.0, -0.5), Vec3::Z, Vec3::X, 0).unwrap();
+    let materials = [Material::DiffuseLight { emit: Vec3::splat(4.0), albedo: 0.0 }];
+    let one = Lights::new(&[Object::Quad(lamp)], &materials);
+    let (several, _) = lights();
+    let mut rng = SmallRng::seed_from_u64(5);
+    for _ in 0..10_000 {
+        let from = random_unit_vector(&mut rng);
+        let sample = one.sample(from, TIME, &mut rng).expect("a point on the lamp");
+        let along = one.pdf(from, sample.dir, TIME);
+        assert_eq!(one.pdf_toward(from, &sample, TIME), sample.pdf);
+        assert!((sample.pdf / along - 1.0).abs() < 1e-3, "{} against pdf's {along}", sample.pdf);
+        let Some(sample) = several.sample(from, TIME, &mut rng) else { continue };
+        assert_eq!(several.pdf_toward(from, &sample, TIME), several.pdf(from, sample.dir, TIME));
+    }
+}

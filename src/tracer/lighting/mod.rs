@@ -169,12 +169,15 @@ pub fn mixture_bounce<R: SampleRng + ?Sized>(
     scatter: &mut Scatter,
     rng: &mut R,
 ) -> bool {
-    if uniform(rng) < 0.5 {
+    let light_density = if uniform(rng) < 0.5 {
         let Some(toward) = lights.sample(hit.departure(), time, rng) else { return false };
         scatter.direction = toward.dir;
-    }
+        lights.pdf_toward(hit.departure(), &toward, time)
+    } else {
+        lights.pdf(hit.departure(), scatter.direction, time)
+    };
     let lobe_density = lobe_pdf(lobe, scatter.direction, hit.normal);
-    let mixture = 0.5 * lights.pdf(hit.departure(), scatter.direction, time) + 0.5 * lobe_density;
+    let mixture = 0.5 * light_density + 0.5 * lobe_density;
     if lobe_density <= 0.0 || mixture <= 0.0 {
         return false;
     }

@@ -157,6 +157,14 @@ impl Lights {
         if sum.is_finite() { sum } else { 0.0 }
     }
 
+    /// [`Lights::pdf`] along the direction of `sample`, a sample [`Lights::sample`] drew from
+    /// `from` at `time`: with one light, the sample's own density (the same number, without
+    /// searching the light again along the way to it); else the sum over every light.
+    #[inline]
+    pub fn pdf_toward(&self, from: Vec3, sample: &LightSample, time: Real) -> Real {
+        if self.lights.len() == 1 { sample.pdf } else { self.pdf(from, sample.dir, time) }
+    }
+
     /// The density, per unit solid angle seen from `from`, with which [`Lights::sample`]
     /// draws the point `point` of an emitter (normal `normal`, at `time`) that gives off
     /// `emitted`: by the cone of the sphere light the point lies on, else by area,
