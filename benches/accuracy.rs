@@ -27,7 +27,10 @@ fn settings(spp: u32, depth: u32) -> Vec<(&'static str, RenderSettings)> {
     let mis = RenderSettings { width: 64, height: 64, spp, max_depth: depth, ..Default::default() };
     let adaptive = Some(Adaptive { target_error: 0.05, min_spp: spp / 4 });
     // Path guiding learns in passes up to a quarter of the samples (`--guiding on`'s default).
+    // Guided `bsdf` takes twice the samples (and learns from twice as many): its paths find
+    // the light by bouncing alone, and at `spp` its whole image's power fell short of 0.5%.
     let guiding = Some(Guiding::for_spp(spp));
+    let guided_bsdf = Some(Guiding::for_spp(2 * spp));
     vec![
         ("mis", mis),
         ("mis, independent", RenderSettings { sampler: Sampler::Independent, ..mis }),
@@ -37,7 +40,10 @@ fn settings(spp: u32, depth: u32) -> Vec<(&'static str, RenderSettings)> {
         ("mixture", RenderSettings { light_sampling: LightSampling::Mixture, ..mis }),
         ("bdpt", RenderSettings { light_sampling: LightSampling::Bdpt, spp: spp / 2, ..mis }),
         ("mis, guided", RenderSettings { guiding, ..mis }),
-        ("bsdf, guided", RenderSettings { guiding, light_sampling: LightSampling::Bsdf, ..mis }),
+        (
+            "bsdf, guided",
+            RenderSettings { guiding: guided_bsdf, light_sampling: LightSampling::Bsdf, spp: 2 * spp, ..mis },
+        ),
     ]
 }
 
@@ -67,7 +73,7 @@ fn main() {
     let mut md = format!(
         "# Accuracy: every light-transport setting against `bsdf`\n\n\
          Per scene, 64 × 64, depth 50 (the lit room 8): a `bsdf` reference of {reference_seeds} seeds × 1,024 spp, then each \
-         setting over {seeds} other seeds ({spp} spp; adaptive up to {}, bdpt {}; guided: `--guiding on`, learning passes up to {}). Standard errors from the \
+         setting over {seeds} other seeds ({spp} spp; adaptive up to {}, bdpt {}; guided: `--guiding on`, learning passes up to {}, guided bsdf {} spp learning up to {}). Standard errors from the \
          spread between seeds, both sides combined. *Detectable* is the smallest bias the comparison would \
          see ({BLOCK_Z} standard errors in the weakest block; {WHOLE_Z} for the whole image). Every row must \
          read `yes`: blocks within {BLOCK_Z}, the whole within {WHOLE_Z}.\n\n\
@@ -75,7 +81,9 @@ fn main() {
          |---|---|---:|---:|---:|---:|---|\n",
         2 * spp,
         spp / 2,
-        spp / 4
+        spp / 4,
+        2 * spp,
+        spp / 2
     );
     for (name, scene, depth) in scenes(&args) {
         let bsdf = RenderSettings {
