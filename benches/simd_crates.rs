@@ -44,12 +44,12 @@ mod compare {
     use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
     use raypool::tracer::accel::bvh::Bvh;
     use raypool::tracer::accel::isa::Isa;
-    use raypool::tracer::accel::lanes::{Lanes8, WithLanes8};
     use raypool::tracer::accel::wide8::Bvh8;
     use raypool::tracer::camera::Camera;
     use raypool::tracer::geometry::hit::Closest;
-    use raypool::tracer::geometry::triangle::{RayFrame, Triangles4};
+    use raypool::tracer::geometry::triangle::{self, RayFrame, Triangles8};
     use raypool::tracer::math::aabb::{Aabb, Bounded};
+    use raypool::tracer::math::lanes::{Lanes8, WithLanes8};
     use raypool::tracer::math::ray::Ray;
     use raypool::tracer::math::real::{Real, Vec3};
     use raypool::tracer::sampling::warp::random_unit_vector;
@@ -78,12 +78,24 @@ mod compare {
             v.into()
         }
         #[inline(always)]
+        fn add(self, a: f32x8<S>, b: f32x8<S>) -> f32x8<S> {
+            a + b
+        }
+        #[inline(always)]
         fn sub(self, a: f32x8<S>, b: f32x8<S>) -> f32x8<S> {
             a - b
         }
         #[inline(always)]
         fn mul(self, a: f32x8<S>, b: f32x8<S>) -> f32x8<S> {
             a * b
+        }
+        #[inline(always)]
+        fn div(self, a: f32x8<S>, b: f32x8<S>) -> f32x8<S> {
+            a / b
+        }
+        #[inline(always)]
+        fn abs(self, a: f32x8<S>) -> f32x8<S> {
+            a.abs()
         }
         #[inline(always)]
         fn max(self, a: f32x8<S>, b: f32x8<S>) -> f32x8<S> {
@@ -97,14 +109,22 @@ mod compare {
         fn le_mask(self, a: f32x8<S>, b: f32x8<S>) -> u32 {
             a.simd_le(b).to_bitmask() as u32
         }
+        #[inline(always)]
+        fn lt_mask(self, a: f32x8<S>, b: f32x8<S>) -> u32 {
+            a.simd_lt(b).to_bitmask() as u32
+        }
+        #[inline(always)]
+        fn eq_mask(self, a: f32x8<S>, b: f32x8<S>) -> u32 {
+            a.simd_eq(b).to_bitmask() as u32
+        }
     }
 
     /// The mesh's triangles in a tree of their own, built as [`Mesh::new`] builds its tree
-    /// (public parts only): the same padded boxes, leaves of four, collapsed eight-wide.
+    /// (public parts only): the same padded boxes, leaves of eight, collapsed eight-wide.
     struct Triangles {
         tree: Bvh8,
         /// Each leaf's corners and its first triangle (the rest follow in lane order).
-        leaves: Vec<(Triangles4, u32)>,
+        leaves: Vec<(Triangles8, u32)>,
         /// Each triangle's vertex indices into the mesh, in the tree's order.
         indices: Vec<[u32; 3]>,
     }
@@ -135,12 +155,12 @@ mod compare {
                 .iter()
                 .map(|t| Building { indices: *t, bounds: box_of(t).padded(pad) })
                 .collect();
-            let (tree, ranges) = Bvh8::collapse(&Bvh::build_with_leaves(&mut building, 4));
+            let (tree, ranges) = Bvh8::collapse(&Bvh::build_with_leaves(&mut building, triangle::LANES));
             let leaves = ranges
                 .into_iter()
                 .map(|range| {
                     let leaf: Vec<_> = building[range.clone()].iter().map(|t| corners(&t.indices)).collect();
-                    (Triangles4::new(&leaf), range.start as u32)
+                    (Triangles8::new(&leaf), range.start as u32)
                 })
                 .collect();
             Triangles { tree, leaves, indices: building.iter().map(|t| t.indices).collect() }
@@ -169,7 +189,7 @@ mod compare {
                 #[inline(always)]
                 |leaf: usize, closest: &mut Closest| {
                     let (corners, first) = &self.triangles.leaves[leaf];
-                    let hits = corners.intersect(&frame, closest.bound());
+                    let hits = corners.intersect(lanes, &frame, closest.bound());
                     for lane in hits.lanes() {
                         closest.offer(hits.t(lane), first + lane as u32);
                     }

@@ -172,8 +172,9 @@ fn reference_hit(p: [Vec3; 3], ray: &Ray) -> Option<(f64, f64, f64, f64)> {
 }
 
 #[test]
-fn four_triangles_in_one_test_each_find_what_they_find_alone_and_what_the_reference_finds() {
-    use raypool::tracer::geometry::triangle::{RayFrame, Triangles4, intersect};
+fn eight_triangles_in_one_test_each_find_what_they_find_alone_and_what_the_reference_finds() {
+    use raypool::tracer::geometry::triangle::{RayFrame, Triangles8, intersect};
+    use raypool::tracer::math::lanes::Scalar8;
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut uniform = move || {
         state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -184,7 +185,7 @@ fn four_triangles_in_one_test_each_find_what_they_find_alone_and_what_the_refere
     };
     let (mut checked, mut hits) = (0, 0);
     for round in 0..4000 {
-        let count = 1 + round % 4;
+        let count = 1 + round % 8;
         let triangles: Vec<[Vec3; 3]> =
             (0..count).map(|_| [0; 3].map(|_| point(2.0, &mut uniform))).collect();
         // Aimed at a point of one of them (just outside it now and then), from anywhere.
@@ -193,7 +194,7 @@ fn four_triangles_in_one_test_each_find_what_they_find_alone_and_what_the_refere
         let target = aim[0] + u * (aim[1] - aim[0]) + (1.0 - u) * v * (aim[2] - aim[0]);
         let origin = point(6.0, &mut uniform);
         let ray = Ray::new(origin, (target - origin).normalize());
-        let packet = Triangles4::new(&triangles).intersect(&RayFrame::new(&ray), Real::INFINITY);
+        let packet = Triangles8::new(&triangles).intersect(Scalar8, &RayFrame::new(&ray), Real::INFINITY);
         let found: Vec<usize> = packet.lanes().collect();
         assert!(found.iter().all(|&lane| lane < count), "round {round}: a spare lane hit");
         for (lane, &triangle) in triangles.iter().enumerate() {

@@ -361,8 +361,8 @@ pub fn section(
         .collect();
     format!(
         "## Triangles: {title}\n\n\
-         raypool's mesh search ([`Mesh::closest`]: its own eight-wide tree, leaves of 4 whose\n\
-         watertight test runs in four SIMD lanes) against Embree's triangle geometry (`RTC_GEOMETRY_TYPE_TRIANGLE`, build\n\
+         raypool's mesh search ([`Mesh::closest`]: its own eight-wide tree, leaves of up to 8 whose\n\
+         watertight test runs in eight SIMD lanes) against Embree's triangle geometry (`RTC_GEOMETRY_TYPE_TRIANGLE`, build\n\
          quality high, default scene flags, `rtcIntersect1` with an incoherent context), over\n\
          the same positions and indices: {tris} triangles. The search only, mesh only (the\n\
          scene's two spheres are not searched). A fixed ray set, recorded once: a jittered camera\n\

@@ -24,8 +24,11 @@ use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 
-/// Leaves hold at most this many spheres when splitting stops paying off.
+/// Leaves hold at most this many spheres when splitting stops paying off (or as many as the
+/// build asks for, if more).
 const MAX_LEAF: usize = 4;
+/// The most items per leaf a build may ask for: a mesh's eight-lane leaf test.
+const LARGEST_LEAF: usize = 8;
 /// Below this depth nodes split at the median instead of by SAH, so that no scene can build
 /// a tree deeper than `SAH_DEPTH + log2(spheres)`, which the traversal stack always holds.
 const SAH_DEPTH: usize = 32;
@@ -64,11 +67,11 @@ impl Bvh {
         Bvh::build_with_leaves(spheres, 1)
     }
 
-    /// Builds the hierarchy with every group of at most `leaf` spheres (1 to 4) kept in one
+    /// Builds the hierarchy with every group of at most `leaf` spheres (1 to 8) kept in one
     /// leaf: for the four-wide tree, whose leaves test four spheres in one go, a leaf of four
-    /// costs about what a leaf of one does.
+    /// costs about what a leaf of one does (and for a mesh's tree, eight triangles what one).
     pub fn build_with_leaves<T: Bounded>(spheres: &mut [T], leaf: usize) -> Bvh {
-        assert!((1..=MAX_LEAF).contains(&leaf), "leaves of 1 to {MAX_LEAF} spheres");
+        assert!((1..=LARGEST_LEAF).contains(&leaf), "leaves of 1 to {LARGEST_LEAF} spheres");
         let mut nodes = Vec::with_capacity(2 * spheres.len() / leaf + 1);
         if !spheres.is_empty() {
             build_node(spheres, 0, 0, leaf, &mut nodes);
@@ -261,9 +264,9 @@ fn choose_split<T: Bounded>(spheres: &mut [T], bounds: &Aabb, leaf: usize) -> Op
     // work: in the four-wide tree, paper2's ground (radius 10⁴) grouped with three small
     // spheres made every ray that enters the ground's box test all four (slower,
     // `results/perf.md`).
-    // Up to MAX_LEAF, they stay together unless splitting saves anything.
+    // Up to MAX_LEAF (or `leaf`, if more), they stay together unless splitting saves anything.
     let leaf_cost = if n <= leaf { 0.5 * n as Real } else { n as Real };
-    if best.0.is_infinite() || (split_cost >= leaf_cost && n <= MAX_LEAF) {
+    if best.0.is_infinite() || (split_cost >= leaf_cost && n <= MAX_LEAF.max(leaf)) {
         return None;
     }
     let mid = partition(spheres, |s| bin_of(s) <= best.1);

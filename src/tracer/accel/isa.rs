@@ -1,7 +1,7 @@
 //! **Wide vectors, chosen at run time.** raypool is built for baseline x86-64 (SSE2: four f32
 //! lanes), so the binary runs on any x86-64; a search that [`Isa::run`]s its code on a CPU
 //! with AVX2 or AVX-512 gets that code compiled again with those instructions enabled, where
-//! an eight-lane [`Lanes8`](crate::tracer::accel::lanes::Lanes8) operation is one instruction
+//! an eight-lane [`Lanes8`](crate::tracer::math::lanes::Lanes8) operation is one instruction
 //! instead of two. Calling code compiled for instructions the CPU may lack needs `unsafe`
 //! (`#[target_feature]`); the `pulp` crate (faer's; already built for `image`'s EXR reader)
 //! keeps that `unsafe` inside itself behind a token that exists only once the CPU has been
@@ -14,7 +14,7 @@
 
 use std::fmt;
 
-use crate::tracer::accel::lanes::{Scalar8, WithLanes8};
+use crate::tracer::math::lanes::{Baseline8, WithLanes8};
 
 /// The widest vector instructions a search may use: [`Isa::best`] by default, or another
 /// level asked for by name (`RAYPOOL_ISA`, for tests and benchmarks).
@@ -100,11 +100,14 @@ impl Isa {
     }
 
     /// Runs `op` compiled for this level, with this level's eight-lane operations
-    /// ([`Lanes8`](crate::tracer::accel::lanes::Lanes8)): AVX registers at avx2 and avx512 (eight lanes are what an eight-wide node
-    /// needs), scalar lanes at the baseline and in the `f64` build.
+    /// ([`Lanes8`](crate::tracer::math::lanes::Lanes8)): AVX registers at avx2 and avx512
+    /// (eight lanes are what an eight-wide node needs), two SSE registers at the baseline, and
+    /// eight scalars at every level in the `f64` build
+    /// ([`Baseline8`](crate::tracer::math::lanes::Baseline8) both).
     ///
     /// ```
-    /// use raypool::tracer::accel::{isa::Isa, lanes::{Lanes8, WithLanes8}};
+    /// use raypool::tracer::accel::isa::Isa;
+    /// use raypool::tracer::math::lanes::{Lanes8, WithLanes8};
     /// use raypool::tracer::math::real::Real;
     /// struct CountBelow(Real);
     /// impl WithLanes8 for CountBelow {
@@ -121,26 +124,26 @@ impl Isa {
     #[inline(always)]
     pub fn run_lanes<W: WithLanes8>(self, op: W) -> W::Output {
         match self.0 {
-            Level::Baseline => op.run(Scalar8),
+            Level::Baseline => op.run(Baseline8::default()),
             #[cfg(all(target_arch = "x86_64", not(feature = "f64")))]
             Level::Avx2(v3) => v3.vectorize(
                 #[inline(always)]
-                || op.run(crate::tracer::accel::lanes::Avx8(v3)),
+                || op.run(crate::tracer::math::lanes::Avx8(v3)),
             ),
             #[cfg(all(target_arch = "x86_64", not(feature = "f64")))]
             Level::Avx512(v4) => v4.vectorize(
                 #[inline(always)]
-                || op.run(crate::tracer::accel::lanes::Avx8(*v4)),
+                || op.run(crate::tracer::math::lanes::Avx8(*v4)),
             ),
             #[cfg(all(target_arch = "x86_64", feature = "f64"))]
             Level::Avx2(v3) => v3.vectorize(
                 #[inline(always)]
-                || op.run(Scalar8),
+                || op.run(Baseline8::default()),
             ),
             #[cfg(all(target_arch = "x86_64", feature = "f64"))]
             Level::Avx512(v4) => v4.vectorize(
                 #[inline(always)]
-                || op.run(Scalar8),
+                || op.run(Baseline8::default()),
             ),
         }
     }

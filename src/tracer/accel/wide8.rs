@@ -5,10 +5,10 @@
 //!
 //! - **Collapse.** As for the four-wide tree (`wide.rs`): the inner child with the largest
 //!   surface area is opened until there are eight children or only leaves. A binary leaf (up
-//!   to four items) is one leaf slot; the rare larger one (items whose centres coincide) a node
-//!   of leaves of four. Leaves are numbered in the order they are made, and a leaf slot holds
-//!   its number, so the caller keeps each leaf's items in a block of their own, found with no
-//!   lookup (a mesh's [`Triangles4`](crate::tracer::geometry::triangle::Triangles4)).
+//!   to eight items) is one leaf slot; the rare larger one (items whose centres coincide) a
+//!   node of leaves of eight. Leaves are numbered in the order they are made, and a leaf slot
+//!   holds its number, so the caller keeps each leaf's items in a block of their own, found
+//!   with no lookup (a mesh's [`Triangles8`](crate::tracer::geometry::triangle::Triangles8)).
 //! - **Traversal.** A node's hit children are found as a bit mask. Most nodes a ray enters
 //!   have one or two hit children (Embree's observation, which its `BVH8` traversal is built
 //!   on): one is visited at once, two in order of entry, and only more than two are sorted
@@ -26,16 +26,16 @@ use std::ops::Range;
 use arrayvec::ArrayVec;
 
 use crate::tracer::accel::bvh::Bvh;
-use crate::tracer::accel::lanes::Lanes8;
 use crate::tracer::accel::wide::{Slab, Waiting, next_waiting};
 use crate::tracer::geometry::hit::Closest;
+use crate::tracer::math::lanes::Lanes8;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 
 /// Children per node.
 const WIDTH: usize = 8;
-/// Items per leaf at most (what one four-lane leaf test holds).
-const LEAF_ITEMS: usize = 4;
+/// Items per leaf at most (what one eight-lane leaf test holds).
+const LEAF_ITEMS: usize = 8;
 /// At most 64 levels (the binary build's bound), each leaving at most seven siblings waiting.
 const STACK: usize = (WIDTH - 1) * 64 + 1;
 /// A child slot with this bit set holds a leaf's number.
@@ -63,11 +63,12 @@ pub struct Bvh8 {
 }
 
 impl Bvh8 {
-    /// Collapses `binary` (built with leaves of at most four) into an eight-wide hierarchy;
+    /// Collapses `binary` (built with leaves of at most eight) into an eight-wide hierarchy;
     /// returns it with each leaf's range of items, by leaf number.
     ///
     /// ```
-    /// use raypool::tracer::accel::{bvh::Bvh, isa::Isa, lanes::{Lanes8, WithLanes8}, wide8::Bvh8};
+    /// use raypool::tracer::accel::{bvh::Bvh, isa::Isa, wide8::Bvh8};
+    /// use raypool::tracer::math::lanes::{Lanes8, WithLanes8};
     /// use raypool::tracer::geometry::{hit::Closest, sphere::Sphere};
     /// use raypool::tracer::math::{ray::Ray, real::{Real, Vec3}};
     /// let mut balls: Vec<Sphere> = (0..100)
@@ -117,7 +118,7 @@ impl Bvh8 {
             if range.len() <= LEAF_ITEMS {
                 return leaf(range);
             }
-            // Items the build could not split (coincident centres): a node of leaves of four.
+            // Items the build could not split (coincident centres): a node of leaves of eight.
             assert!(range.len() <= LEAF_ITEMS * WIDTH, "a binary leaf of {} items", range.len());
             let node = self.push_node();
             for (slot, start) in range.clone().step_by(LEAF_ITEMS).enumerate() {

@@ -5,24 +5,26 @@
 //!
 //! Triangles are tested with the watertight test (`geometry/triangle.rs`), so a closed mesh
 //! has no cracks between neighbours; new rays start a few ulps of the mesh's own magnitude
-//! off it, as off a sphere. Each leaf of the tree (up to four triangles) also keeps its
-//! triangles' corners copied lane by lane, a [`Triangles4`], so that a leaf is one four-lane
-//! test reading one 144-byte block, not four tests each gathering three vertices through
-//! their indices (Embree keeps its leaves so). The tree is eight-wide ([`Bvh8`]), searched
-//! with the eight-lane operations of the scene's vector level.
+//! off it, as off a sphere. Each leaf of the tree (up to eight triangles) also keeps its
+//! triangles' corners copied lane by lane, a [`Triangles8`], so that a leaf is one eight-lane
+//! test reading one 288-byte block, not eight tests each gathering three vertices through
+//! their indices (Embree keeps its leaves so, four to a block). The tree is eight-wide
+//! ([`Bvh8`]); its slab tests and its leaves' tests run in the eight lanes of the scene's
+//! vector level: one AVX register where the CPU has it, so a leaf of eight costs what a leaf
+//! of four would.
 
 use crate::tracer::accel::bvh::Bvh;
 use crate::tracer::accel::isa::Isa;
-use crate::tracer::accel::lanes::{Lanes8, WithLanes8};
 use crate::tracer::accel::wide8::Bvh8;
 use crate::tracer::geometry::hit::{Closest, Hit};
-use crate::tracer::geometry::triangle::{self, RayFrame, TriangleHit, Triangles4};
+use crate::tracer::geometry::triangle::{self, RayFrame, TriangleHit, Triangles8};
 use crate::tracer::math::aabb::{Aabb, Bounded};
+use crate::tracer::math::lanes::{Lanes8, WithLanes8};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 
-/// Triangles per leaf of a mesh's tree.
-const LEAF: usize = 4;
+/// Triangles per leaf of a mesh's tree: one per lane.
+const LEAF: usize = triangle::LANES;
 
 /// A triangle mesh.
 #[derive(Clone, Debug)]
@@ -35,20 +37,14 @@ pub struct Mesh {
     uvs: Vec<[Real; 2]>,
     /// Vertex indices, in the tree's order.
     triangles: Vec<[u32; 3]>,
-    /// Its leaves are numbered: leaf `k` is `leaves[k]`.
+    /// Its leaves are numbered: leaf `k`'s corners are `leaves[k]`, for the test (spare lanes
+    /// never hit), and its triangles, in lane order, start at `first[k]` (read only on a hit).
     tree: Bvh8,
-    leaves: Vec<Leaf>,
+    leaves: Vec<Triangles8>,
+    first: Vec<u32>,
     bounds: Aabb,
     /// Off-surface distance for new rays, from the mesh's magnitude.
     offset: Real,
-}
-
-/// A leaf of the tree: its triangles' corners for the four-lane test (spare lanes never
-/// hit), and the first of its triangles, which follow in lane order.
-#[derive(Clone, Copy, Debug)]
-struct Leaf {
-    corners: Triangles4,
-    first: u32,
 }
 
 /// A triangle while the tree is built: its indices, box and centre.
@@ -122,19 +118,20 @@ impl Mesh {
         building.iter_mut().for_each(|t| t.bounds = t.bounds.padded(0.25 * offset));
         let binary = Bvh::build_with_leaves(&mut building, LEAF);
         let (tree, ranges) = Bvh8::collapse(&binary);
-        let leaves: Vec<Leaf> = ranges
-            .into_iter()
+        let leaves = ranges
+            .iter()
             .map(|range| {
                 let corners: Vec<_> = building[range.clone()]
                     .iter()
                     .map(|t| t.indices.map(|i| positions[i as usize]))
                     .collect();
-                Leaf { corners: Triangles4::new(&corners), first: range.start as u32 }
+                Triangles8::new(&corners)
             })
             .collect();
+        let first = ranges.iter().map(|range| range.start as u32).collect();
         let triangles = building.iter().map(|t| t.indices).collect();
         let bounds = whole.padded(0.25 * offset);
-        Ok(Mesh { positions, normals, uvs, triangles, tree, leaves, bounds, offset })
+        Ok(Mesh { positions, normals, uvs, triangles, tree, leaves, first, bounds, offset })
     }
 
     /// The same mesh with every vertex multiplied by `factor` (> 0): normals and texture
@@ -270,10 +267,9 @@ impl WithLanes8 for ClosestSearch<'_> {
             // Inlined, or the leaf test runs in a copy compiled for the baseline at every level.
             #[inline(always)]
             |leaf: usize, closest: &mut Closest| {
-                let leaf = &self.mesh.leaves[leaf];
-                let hits = leaf.corners.intersect(&frame, closest.bound());
+                let hits = self.mesh.leaves[leaf].intersect(lanes, &frame, closest.bound());
                 for lane in hits.lanes() {
-                    let k = leaf.first + lane as u32;
+                    let k = self.mesh.first[leaf] + lane as u32;
                     closest.offer(hits.t(lane), k);
                     if closest.index == k {
                         best = Some((hits, lane));
@@ -308,7 +304,7 @@ impl WithLanes8 for OcclusionSearch<'_> {
             &mut closest,
             #[inline(always)]
             |leaf: usize, closest: &mut Closest| {
-                if self.mesh.leaves[leaf].corners.intersect(&frame, self.t_max).any() {
+                if self.mesh.leaves[leaf].intersect(lanes, &frame, self.t_max).any() {
                     found = true;
                     closest.rule_out_rest();
                 }
