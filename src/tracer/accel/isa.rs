@@ -103,7 +103,7 @@ impl Isa {
     /// ([`Lanes8`](crate::tracer::math::lanes::Lanes8)): AVX registers at avx2 and avx512
     /// (eight lanes are what an eight-wide node needs), two SSE registers at the baseline, and
     /// eight scalars at every level in the `f64` build
-    /// ([`Baseline8`](crate::tracer::math::lanes::Baseline8) both).
+    /// ([`Baseline8`] both).
     ///
     /// ```
     /// use raypool::tracer::accel::isa::Isa;
