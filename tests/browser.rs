@@ -10,6 +10,7 @@
 mod common;
 mod deadline;
 
+use std::path::PathBuf;
 use std::process::Command;
 use std::time::Duration;
 
@@ -20,17 +21,23 @@ use serde_json::json;
 
 const MINUTE: Duration = Duration::from_secs(60);
 
-#[test]
-fn the_page_renders_live_with_a_lane_per_worker_and_orbits() {
-    let Some(binary) = chromium() else {
+/// Chromium, or `None` after saying that `test` skips for want of it; under `.ci/run`
+/// (`RAYPOOL_CI`) its absence fails the test instead.
+fn chromium_or_skip(test: &str) -> Option<PathBuf> {
+    let binary = chromium();
+    if binary.is_none() {
         assert!(
             std::env::var_os("RAYPOOL_CI").is_none(),
             "Chromium is required under .ci/run: apt-get install -y chromium"
         );
-        deadline::skipped(
-            "the_page_renders_live_with_a_lane_per_worker_and_orbits",
-            "chromium not installed (apt-get install -y chromium)",
-        );
+        deadline::skipped(test, "chromium not installed (apt-get install -y chromium)");
+    }
+    binary
+}
+
+#[test]
+fn the_page_renders_live_with_a_lane_per_worker_and_orbits() {
+    let Some(binary) = chromium_or_skip("the_page_renders_live_with_a_lane_per_worker_and_orbits") else {
         return;
     };
     let viewer = Viewer::start(&["--scene", "final", "--width", "200", "--spp", "16", "--threads", "2"]);
@@ -138,15 +145,8 @@ fn the_page_renders_live_with_a_lane_per_worker_and_orbits() {
 /// command line's one line; and switching guiding off renders as without the flag.
 #[test]
 fn the_pages_guiding_control_renders_the_command_lines_guided_image() {
-    let Some(binary) = chromium() else {
-        assert!(
-            std::env::var_os("RAYPOOL_CI").is_none(),
-            "Chromium is required under .ci/run: apt-get install -y chromium"
-        );
-        deadline::skipped(
-            "the_pages_guiding_control_renders_the_command_lines_guided_image",
-            "chromium not installed (apt-get install -y chromium)",
-        );
+    let Some(binary) = chromium_or_skip("the_pages_guiding_control_renders_the_command_lines_guided_image")
+    else {
         return;
     };
     let flags = ["--scene", "cornell", "--width", "40", "--spp", "16", "--threads", "2"];
