@@ -181,8 +181,8 @@ impl Triangles8 {
             | (!negative & (lanes.le_mask(t_scaled, zero) | lanes.lt_mask(bound, t_scaled)));
         let kept =
             !outside & !lanes.eq_mask(det, zero) & !behind_or_beyond & lanes.lt_mask(t, lanes.splat(t_max));
-        // The rounding bound only where a lane may hit: about a third of the leaves a ray
-        // visits on `mesh` (callgrind, four-triangle leaves), each lane's bound in its own lane.
+        // The rounding bound only when some lane may hit (many leaves a ray visits have no
+        // such lane), each lane's bound in its own lane.
         let mask =
             if kept == 0 { 0 } else { kept & lanes.lt_mask(rounding_bound(lanes, &q, sz, &e, inv_det), t) };
         Hits8 { mask, t: lanes.store(t), e: store3(lanes, e), inv_det: lanes.store(inv_det) }
