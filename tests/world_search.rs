@@ -246,15 +246,26 @@ fn a_group_with_a_medium_breaks_ties_between_surfaces_by_their_order_in_the_grou
 
 #[test]
 fn a_packet_of_quads_finds_bit_for_bit_what_each_quad_finds_alone() {
-    // `QuadPacket` runs `Quad::intersect`'s arithmetic in four lanes: the same hits, the same
-    // distance and `(α, β)` to the bit, for axis-aligned quads (a box's faces, the walls) and
-    // tilted ones, rays aimed on, inside and just past the edges; and its nearest lane is the
-    // least `(distance, lane)`, as offering the lanes one by one to `Closest` finds.
+    // `QuadPacket` runs `Quad::intersect`'s arithmetic in eight lanes at every vector level:
+    // the same hits, the same distance and `(α, β)` to the bit, for axis-aligned quads (a
+    // box's faces, the walls) and tilted ones, rays aimed on, inside and just past the edges;
+    // and its nearest lane is the least `(distance, lane)`, as offering the lanes one by one to
+    // `Closest` finds.
     use rand::{SeedableRng, rngs::SmallRng};
+    use raypool::tracer::accel::isa::Isa;
     use raypool::tracer::geometry::hit::Closest;
     use raypool::tracer::geometry::quad::{EDGE, Quad, box_faces};
-    use raypool::tracer::geometry::quads::QuadPacket;
+    use raypool::tracer::geometry::quads::{QuadHits, QuadPacket};
+    use raypool::tracer::math::lanes::{Lanes8, WithLanes8};
     use raypool::tracer::sampling::warp::{random_unit_vector, uniform};
+    struct Test<'a>(&'a QuadPacket, Ray, Real);
+    impl WithLanes8 for Test<'_> {
+        type Output = QuadHits;
+        fn run<L: Lanes8>(self, lanes: L) -> QuadHits {
+            self.0.intersect(lanes, &self.1, self.2)
+        }
+    }
+    let levels = Isa::available();
     let mut rng = SmallRng::seed_from_u64(13);
     let mut point = |scale: Real| Vec3::new(uniform(&mut rng), uniform(&mut rng), uniform(&mut rng)) * scale;
     let mut quads: Vec<Quad> = box_faces(point(100.0), point(100.0) + Vec3::splat(20.0), 0).unwrap().to_vec();
@@ -268,10 +279,10 @@ fn a_packet_of_quads_finds_bit_for_bit_what_each_quad_finds_alone() {
     }
     let (mut hits, mut edges) = (0, 0);
     for k in 0..60_000 {
-        let lanes = [k % 12, (k + 5) % 12, (k / 12) % 12, (k / 7 + 3) % 12];
+        let lanes = [k % 12, (k + 5) % 12, (k / 12) % 12, (k / 7 + 3) % 12, (k / 3) % 12, (k + 9) % 12];
         let present = k % 5 != 0;
-        let packet = QuadPacket::new(lanes.map(|i| (present || i % 2 == 0).then_some(&quads[i])));
-        let target = &quads[lanes[k % 4]];
+        let packet = QuadPacket::new(&lanes.map(|i| (present || i % 2 == 0).then_some(&quads[i])));
+        let target = &quads[lanes[k % lanes.len()]];
         let past = [-0.5, 0.0, 0.5, 0.25][k % 4] * EDGE;
         let along = uniform(&mut rng);
         let (alpha, beta) = if k % 3 == 0 { (past, along) } else { (along, 1.0 - past) };
@@ -280,16 +291,19 @@ fn a_packet_of_quads_finds_bit_for_bit_what_each_quad_finds_alone() {
         let Some(dir) = (aim - from).try_normalize() else { continue };
         let ray = Ray::new(from, dir);
         let t_max = if k % 2 == 0 { Real::INFINITY } else { 200.0 * uniform(&mut rng) };
-        let found = packet.intersect(&ray, t_max);
+        let isa = levels[k % levels.len()];
+        let found = isa.run_lanes(Test(&packet, ray, t_max));
         let mut closest = Closest::none(t_max);
+        assert_eq!(found.mask >> lanes.len(), 0, "ray {k}: a lane with no quad was hit");
         for (lane, &i) in lanes.iter().enumerate() {
             let alone = (present || i % 2 == 0).then(|| quads[i].intersect(&ray, t_max)).flatten();
             assert_eq!(found.mask >> lane & 1 == 1, alone.is_some(), "ray {k}, lane {lane}");
             if let Some((t, a, b)) = alone {
-                let lane_of = |v: raypool::tracer::math::real::Real4| v.to_array()[lane].to_bits();
+                let lane_of = |v: [Real; 8]| v[lane].to_bits();
                 assert_eq!(
                     (lane_of(found.t), lane_of(found.alpha), lane_of(found.beta)),
-                    (t.to_bits(), a.to_bits(), b.to_bits())
+                    (t.to_bits(), a.to_bits(), b.to_bits()),
+                    "ray {k}, lane {lane} at {isa:?}"
                 );
                 closest.offer(t, lane as u32);
                 hits += 1;

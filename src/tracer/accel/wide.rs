@@ -162,23 +162,6 @@ impl WideBvh {
         self.nodes[node].children[slot] = child;
     }
 
-    /// Numbers the leaves 0, 1, 2, … in the order they are stored, so that the range
-    /// [`WideBvh::traverse`] hands over for a leaf starts at the leaf's number (its length
-    /// unchanged): for a tree whose leaves keep their items in a packet of their own, found by
-    /// that number with no lookup (a mesh's triangles). Returns each leaf's former range, by
-    /// number.
-    pub fn number_leaves(&mut self) -> Vec<Range<usize>> {
-        let mut ranges = Vec::new();
-        for slot in self.nodes.iter_mut().flat_map(|node| node.children.iter_mut()) {
-            if *slot != EMPTY && *slot & LEAF != 0 {
-                let range = leaf_spheres(*slot);
-                *slot = leaf_slot(ranges.len(), range.len());
-                ranges.push(range);
-            }
-        }
-        ranges
-    }
-
     /// Offers every sphere the ray may hit before `closest.t` to `closest`, testing whole
     /// packets with [`Packet::intersect`] (a tree made by [`WideBvh::collapse`] only).
     #[inline]

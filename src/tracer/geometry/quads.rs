@@ -1,57 +1,69 @@
-//! Four quads tested at once: their corners, normals and edge vectors stored as structure of
-//! arrays, so one pass of [`Quad::intersect`]'s arithmetic runs in the four lanes of a SIMD
-//! register (the walls of a room, a box's faces, the ground's boxes of the second book).
+//! Eight quads tested at once: their corners, normals and edge vectors stored as structure of
+//! arrays, so one pass of [`Quad::intersect`]'s arithmetic runs in the eight lanes of the
+//! scene's vector level ([`Lanes8`]: one AVX register where the CPU has it, two SSE steps at
+//! the baseline): the walls of a room and a box's faces in one pass, the ground's boxes of the
+//! second book a leaf at a time.
 //!
-//! As `accel/packet.rs` does for spheres, the lanes are plain `[Real; 4]` arrays written as
-//! loops the compiler vectorises for baseline x86-64, with no `unsafe`. Every lane performs
-//! exactly the arithmetic of [`Quad::intersect`], in glam's order (a dot product is
-//! `(x·x′ + y·y′) + z·z′`, a cross product's component `a·b′ − a′·b`, no fused multiply-add),
-//! so a packet finds bit for bit the distance and the `(α, β)` that testing the quads one by
-//! one finds; the scalar test's early exit (a plane behind the ray) only skips work whose
-//! answer is "no hit", which a lane computes and finds too.
+//! Every lane performs exactly the arithmetic of [`Quad::intersect`], in glam's order (a dot
+//! product is `(x·x′ + y·y′) + z·z′`, a cross product's component `a·b′ − a′·b`, no fused
+//! multiply-add), so a packet finds bit for bit the distance and the `(α, β)` that testing
+//! the quads one by one finds, at every level; the scalar test's early exit (a plane behind
+//! the ray) only skips work whose answer is "no hit", which a lane computes and finds too.
 //!
 //! Invariant: unused lanes hold NaN, and every comparison with NaN is false, so they never
 //! report a hit.
 
 use crate::tracer::geometry::quad::{EDGE, Quad};
+use crate::tracer::math::lanes::Lanes8;
 use crate::tracer::math::ray::Ray;
-use crate::tracer::math::real::{Real, Real4};
+use crate::tracer::math::real::Real;
 
 /// Quads per packet.
-pub const LANES: usize = 4;
+pub const LANES: usize = 8;
+
+/// One value per lane.
+type Wide = [Real; LANES];
 
 /// Up to [`LANES`] quads, structure of arrays: per vector, its x, y and z lanes.
 #[derive(Clone, Copy, Debug)]
 pub struct QuadPacket {
-    q: [Real4; 3],
-    normal: [Real4; 3],
-    w: [Real4; 3],
-    u: [Real4; 3],
-    v: [Real4; 3],
+    q: [Wide; 3],
+    normal: [Wide; 3],
+    w: [Wide; 3],
+    u: [Wide; 3],
+    v: [Wide; 3],
 }
 
-/// What a packet's test found: each lane's distance (infinity where it is not hit) and
-/// `(α, β)`, and a mask with bit `k` set where lane `k`'s quad is hit in `(0, t_max)`.
+/// What a packet's test found: each lane's distance and `(α, β)` (meaningful in the lanes
+/// hit), and a mask with bit `k` set where lane `k`'s quad is hit in `(0, t_max)`.
 #[derive(Clone, Copy, Debug)]
 pub struct QuadHits {
-    /// Distance along the ray; infinity in the lanes not hit.
-    pub t: Real4,
+    /// Distance along the ray.
+    pub t: Wide,
     /// The hit's coordinate along the quad's first edge.
-    pub alpha: Real4,
+    pub alpha: Wide,
     /// Along its second edge.
-    pub beta: Real4,
+    pub beta: Wide,
     /// Bit `k`: lane `k` is hit.
     pub mask: u32,
 }
 
 impl QuadHits {
     /// The lane of the nearest hit, the lowest of equals (the lower index wins a tie, as
-    /// [`Closest`](crate::tracer::geometry::hit::Closest) decides), if any lane is hit. Found
-    /// without a branch per lane: how many lanes a ray hits is anyone's guess.
+    /// [`Closest`](crate::tracer::geometry::hit::Closest) decides), if any lane is hit: a ray
+    /// hits one or two of a packet's quads, so the hit lanes are visited one by one.
     #[inline(always)]
     pub fn nearest(&self) -> Option<usize> {
-        let first = self.t.cmpeq(Real4::splat(self.t.min_element())).bitmask() & self.mask;
-        (first != 0).then(|| first.trailing_zeros() as usize)
+        let mut mask = self.mask;
+        let mut best: Option<usize> = None;
+        while mask != 0 {
+            let k = mask.trailing_zeros() as usize;
+            mask &= mask - 1;
+            if best.is_none_or(|b| self.t[k] < self.t[b]) {
+                best = Some(k);
+            }
+        }
+        best
     }
 }
 
@@ -59,17 +71,20 @@ impl QuadPacket {
     /// Lane `k` holds `quads[k]`, or nothing (NaN) where that is `None`.
     ///
     /// ```
+    /// use raypool::tracer::accel::isa::Isa;
     /// use raypool::tracer::geometry::{quad::Quad, quads::QuadPacket};
+    /// use raypool::tracer::math::lanes::Baseline8;
     /// use raypool::tracer::math::{ray::Ray, real::{Real, Vec3}};
     /// let wall = |z: Real| Quad::new(Vec3::new(-1.0, -1.0, z), 2.0 * Vec3::X, 2.0 * Vec3::Y, 0).unwrap();
     /// let (near, far) = (wall(-2.0), wall(-5.0));
-    /// let packet = QuadPacket::new([Some(&far), None, Some(&near), None]);
+    /// let packet = QuadPacket::new(&[Some(&far), None, Some(&near)]);
     /// let ray = Ray::new(Vec3::ZERO, -Vec3::Z);
-    /// let hits = packet.intersect(&ray, Real::INFINITY);
-    /// assert_eq!((hits.mask, hits.t[0], hits.t[2]), (0b101, 5.0, 2.0));
+    /// let hits = packet.intersect(Baseline8::default(), &ray, Real::INFINITY);
+    /// assert_eq!((hits.mask, hits.t[0], hits.t[2], hits.nearest()), (0b101, 5.0, 2.0, Some(2)));
     /// assert_eq!(hits.t[2], near.intersect(&ray, Real::INFINITY).unwrap().0);
     /// ```
-    pub fn new(quads: [Option<&Quad>; LANES]) -> QuadPacket {
+    pub fn new(quads: &[Option<&Quad>]) -> QuadPacket {
+        assert!(quads.len() <= LANES, "a packet of {} quads", quads.len());
         let lanes = |of: fn(&Quad) -> [Real; 3]| {
             let mut out = [[Real::NAN; LANES]; 3];
             for (k, quad) in quads.iter().enumerate() {
@@ -78,7 +93,7 @@ impl QuadPacket {
                     (0..3).for_each(|axis| out[axis][k] = value[axis]);
                 }
             }
-            out.map(Real4::from_array)
+            out
         };
         QuadPacket {
             q: lanes(|quad| quad.q.to_array()),
@@ -89,31 +104,53 @@ impl QuadPacket {
         }
     }
 
-    /// [`Quad::intersect`] in every lane, for hits in `(0, t_max)`.
+    /// [`Quad::intersect`] in every lane, for hits in `(0, t_max)`, in `lanes`' instructions.
     #[inline(always)]
-    pub fn intersect(&self, ray: &Ray, t_max: Real) -> QuadHits {
-        let splat = Real4::splat;
-        let (o, d) = (
-            [ray.origin.x, ray.origin.y, ray.origin.z].map(splat),
-            [ray.dir.x, ray.dir.y, ray.dir.z].map(splat),
-        );
-        let (n, q, w, u, v) = (&self.normal, &self.q, &self.w, &self.u, &self.v);
-        let denom = (n[0] * d[0] + n[1] * d[1]) + n[2] * d[2];
-        let c = [q[0] - o[0], q[1] - o[1], q[2] - o[2]];
-        let t = ((n[0] * c[0] + n[1] * c[1]) + n[2] * c[2]) / denom;
-        let p = [t * d[0] - c[0], t * d[1] - c[1], t * d[2] - c[2]];
+    pub fn intersect<L: Lanes8>(&self, lanes: L, ray: &Ray, t_max: Real) -> QuadHits {
+        let l = lanes;
+        let (n, q, w) = (load3(l, &self.normal), load3(l, &self.q), load3(l, &self.w));
+        let (u, v) = (load3(l, &self.u), load3(l, &self.v));
+        let o = [l.splat(ray.origin.x), l.splat(ray.origin.y), l.splat(ray.origin.z)];
+        let d = [l.splat(ray.dir.x), l.splat(ray.dir.y), l.splat(ray.dir.z)];
+        let denom = dot3(l, n, d);
+        let c = [l.sub(q[0], o[0]), l.sub(q[1], o[1]), l.sub(q[2], o[2])];
+        let t = l.div(dot3(l, n, c), denom);
+        let p = [l.sub(l.mul(t, d[0]), c[0]), l.sub(l.mul(t, d[1]), c[1]), l.sub(l.mul(t, d[2]), c[2])];
         // α = w·(p × v), β = w·(u × p).
-        let pv = [p[1] * v[2] - p[2] * v[1], p[2] * v[0] - p[0] * v[2], p[0] * v[1] - p[1] * v[0]];
-        let up = [u[1] * p[2] - u[2] * p[1], u[2] * p[0] - u[0] * p[2], u[0] * p[1] - u[1] * p[0]];
-        let alpha = (w[0] * pv[0] + w[1] * pv[1]) + w[2] * pv[2];
-        let beta = (w[0] * up[0] + w[1] * up[1]) + w[2] * up[2];
-        let (low, high) = (splat(-EDGE), splat(1.0 + EDGE));
-        let hit = t.cmpgt(splat(0.0))
-            & t.cmplt(splat(t_max))
-            & low.cmple(alpha)
-            & alpha.cmple(high)
-            & low.cmple(beta)
-            & beta.cmple(high);
-        QuadHits { t: Real4::select(hit, t, splat(Real::INFINITY)), alpha, beta, mask: hit.bitmask() }
+        let alpha = dot3(l, w, cross3(l, p, v));
+        let beta = dot3(l, w, cross3(l, u, p));
+        let (low, high) = (l.splat(-EDGE), l.splat(1.0 + EDGE));
+        let mask = l.lt_mask(l.splat(0.0), t)
+            & l.lt_mask(t, l.splat(t_max))
+            & l.le_mask(low, alpha)
+            & l.le_mask(alpha, high)
+            & l.le_mask(low, beta)
+            & l.le_mask(beta, high);
+        QuadHits { t: l.store(t), alpha: l.store(alpha), beta: l.store(beta), mask }
     }
+}
+
+// Helpers as functions, not closures: forced inline, so that they are compiled with the
+// search's vector level (a closure the compiler left out of line ran at the baseline,
+// each lane operation a call).
+
+#[inline(always)]
+fn load3<L: Lanes8>(l: L, a: &[Wide; 3]) -> [L::V; 3] {
+    [l.load(&a[0]), l.load(&a[1]), l.load(&a[2])]
+}
+
+/// `(a·b′ + c·d′) + e·f′`, glam's order, one IEEE operation a step.
+#[inline(always)]
+fn dot3<L: Lanes8>(l: L, a: [L::V; 3], b: [L::V; 3]) -> L::V {
+    l.add(l.add(l.mul(a[0], b[0]), l.mul(a[1], b[1])), l.mul(a[2], b[2]))
+}
+
+/// `a × b`, each component `a·b′ − a′·b` in glam's order.
+#[inline(always)]
+fn cross3<L: Lanes8>(l: L, a: [L::V; 3], b: [L::V; 3]) -> [L::V; 3] {
+    [
+        l.sub(l.mul(a[1], b[2]), l.mul(a[2], b[1])),
+        l.sub(l.mul(a[2], b[0]), l.mul(a[0], b[2])),
+        l.sub(l.mul(a[0], b[1]), l.mul(a[1], b[0])),
+    ]
 }

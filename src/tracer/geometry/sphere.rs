@@ -113,6 +113,14 @@ impl Sphere {
         Hit { t, point, normal, front_face, material: self.material, offset: 0.0, lift: 0.0, u: 0.0, v: 0.0 }
     }
 
+    /// The hit in `(0, t_max)`, if any, without its texture coordinates ([`Sphere::with_uv`]
+    /// adds them to the closest hit of a search).
+    #[inline]
+    pub fn hit(&self, ray: &Ray, t_max: Real) -> Option<Hit> {
+        let t = self.intersect(ray, t_max)?;
+        Some(self.hit_at(ray, t))
+    }
+
     /// The full hit record for an intersection at distance `t` found by [`Sphere::intersect`].
     #[inline]
     pub fn hit_at(&self, ray: &Ray, t: Real) -> Hit {

@@ -2,7 +2,7 @@
 //! holds: a shape, a triangle [`mesh`], a group of objects with its own tree, an instance that
 //! places a group by a rigid transform — the ray moves, not the geometry — or a participating
 //! medium inside any closed group). It stands on `accel`'s trees, which it reuses for every
-//! kind, and searches a group's objects in [`runs`] of four, its quads four at once. Meshes
+//! kind, and searches a group's objects in [`runs`], its quads eight at once. Meshes
 //! are flat and indexed, with their own tree. Which of these objects emit, and
 //! how they are aimed at, is the next room's, `lights`.
 //!

@@ -12,13 +12,14 @@ use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::{Aabb, Bounded};
+use crate::tracer::math::lanes::{Lanes8, WithLanes8};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::world::mesh::Mesh;
 pub use crate::tracer::world::probe::Probe;
 use crate::tracer::world::runs;
-use crate::tracer::world::runs::{Best, Item, Kind, Runs};
+use crate::tracer::world::runs::{Best, Item, Kind, Run, Runs};
 use std::sync::Arc;
 
 /// One object of a scene or of a group.
@@ -43,8 +44,8 @@ impl Object {
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
         match self {
-            Object::Sphere(sphere) => sphere_hit(sphere, ray, t_max),
-            Object::Moving(moving) => sphere_hit(&moving.at(probe.time), ray, t_max),
+            Object::Sphere(sphere) => sphere.hit(ray, t_max),
+            Object::Moving(moving) => moving.at(probe.time).hit(ray, t_max),
             Object::Quad(quad) => {
                 let (t, alpha, beta) = quad.intersect(ray, t_max)?;
                 Some(quad.hit_at(ray, t, alpha, beta))
@@ -115,14 +116,6 @@ impl Object {
     }
 }
 
-/// A sphere's hit, without its texture coordinates ([`Object::with_uv`] adds them to the
-/// closest hit).
-#[inline]
-fn sphere_hit(sphere: &Sphere, ray: &Ray, t_max: Real) -> Option<Hit> {
-    let t = sphere.intersect(ray, t_max)?;
-    Some(sphere.hit_at(ray, t))
-}
-
 impl Bounded for Object {
     fn bounds(&self) -> Aabb {
         match self {
@@ -151,14 +144,11 @@ impl Bounded for Object {
 }
 
 // ---- Groups:
-// A group: objects searched together, through a four-wide tree of their boxes once there are
-// enough of them (the same trees `accel` builds for spheres). A scene's world is a group; so
-// is what an instance places and what bounds a medium. Its objects are searched in runs of up
-// to four, a run's quads four at once (`runs.rs`), and only the closest hit's record is made,
-// at the end.
-//
-// Ties in distance go to the lower index ([`Closest`]), so a group searched through its tree
-// finds exactly what testing its objects in order finds (`--accel flat`).
+// A group: objects searched together (a scene's world, what an instance places, what bounds
+// a medium) in runs, through an eight-wide tree of their boxes once there are enough of them,
+// a run's quads in the lanes of the scene's vector level (`runs.rs`); only the closest hit's
+// record is made, at the end. Ties in distance go to the lower index ([`Closest`]), so a
+// group searched through its tree finds exactly what testing its objects in order finds.
 
 /// Groups of fewer objects than this keep the order they were given; larger ones are ordered
 /// as their tree's leaves, the order in which ties go to the lower index.
@@ -184,9 +174,8 @@ impl Group {
         Group::with_tree(objects, tree)
     }
 
-    /// A group of `objects`, ordered by a tree and searched through it (if there are more than
-    /// [`runs::FLAT_MAX_OBJECTS`]) or, with `tree` false, searched one run after another in
-    /// their current order.
+    /// A group of `objects`, ordered by a tree and searched through it (if more than
+    /// [`runs::FLAT_MAX_OBJECTS`]), or with `tree` false one run after another as they are.
     pub fn with_tree(mut objects: Vec<Object>, tree: bool) -> Group {
         let bounds = objects.iter().map(Bounded::bounds).fold(Aabb::EMPTY, Aabb::union);
         let tree = if tree { runs::ordered(&mut objects) } else { None };
@@ -249,36 +238,10 @@ impl Group {
         self.objects.iter().map(Object::needs).fold((false, false), |a, b| (a.0 | b.0, a.1 | b.1))
     }
 
-    /// The nearest hit in `(0, t_max)`.
+    /// The nearest hit in `(0, t_max)`, searched in the lanes of the scene's vector level.
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
-        let mut closest = Closest::none(t_max);
-        let mut best = Best::Nothing;
-        self.runs.search(ray, &mut closest, |run, closest| {
-            if let Some((alpha, beta)) = run.offer_quads(ray, closest) {
-                best = Best::Quad(alpha, beta);
-            }
-            for i in run.spheres() {
-                let Object::Sphere(sphere) = &self.objects[i] else { continue };
-                if let Some(t) = sphere.intersect(ray, closest.bound()) {
-                    closest.offer(t, i as u32);
-                    best = if closest.index == i as u32 { Best::Sphere } else { best };
-                }
-            }
-            run.others().for_each(|i| self.offer(i, ray, probe, closest, &mut best));
-        });
-        // Media last, when the nearest surface bounds how far they must look ([`Medium::hit`]
-        // then rarely searches its boundary).
-        self.runs.media().for_each(|i| self.offer(i, ray, probe, &mut closest, &mut best));
-        match (best, self.objects.get(closest.index as usize)?) {
-            (Best::Quad(alpha, beta), Object::Quad(quad)) => Some(quad.hit_at(ray, closest.t, alpha, beta)),
-            (Best::Sphere, Object::Sphere(sphere)) => {
-                let hit = sphere.hit_at(ray, closest.t);
-                Some(if self.uv { sphere.with_uv(hit) } else { hit })
-            }
-            (Best::Other(hit), object) => Some(if self.uv { object.with_uv(hit, probe) } else { hit }),
-            _ => None,
-        }
+        probe.isa.run_lanes(Nearest(self, ray, t_max, probe))
     }
 
     /// Asks object `i` alone for its hit below the closest so far, and keeps it if closer.
@@ -296,16 +259,76 @@ impl Group {
     /// object found (pbrt's `IntersectP`, Embree's `rtcOccluded`).
     #[inline]
     pub fn occludes(&self, ray: &Ray, t_max: Real, probe: &Probe) -> bool {
-        let blocks = |i: usize| self.objects[i].occludes(ray, t_max, probe);
+        probe.isa.run_lanes(Blocked(self, ray, t_max, probe))
+    }
+}
+
+/// [`Group::hit`]'s search and [`Group::occludes`]', run in the lanes of a vector level.
+struct Nearest<'a>(&'a Group, &'a Ray, Real, &'a Probe);
+struct Blocked<'a>(&'a Group, &'a Ray, Real, &'a Probe);
+
+impl WithLanes8 for Nearest<'_> {
+    type Output = Option<Hit>;
+    #[inline(always)]
+    fn run<L: Lanes8>(self, lanes: L) -> Option<Hit> {
+        let Nearest(group, ray, t_max, probe) = self;
+        let mut closest = Closest::none(t_max);
+        let mut best = Best::Nothing;
+        group.runs.search(
+            lanes,
+            ray,
+            &mut closest,
+            #[inline(always)]
+            |run: &Run, closest: &mut Closest| {
+                if let Some((alpha, beta)) = run.offer_quads(lanes, ray, closest) {
+                    best = Best::Quad(alpha, beta);
+                }
+                for i in run.spheres() {
+                    let Object::Sphere(sphere) = &group.objects[i] else { continue };
+                    if let Some(t) = sphere.intersect(ray, closest.bound()) {
+                        closest.offer(t, i as u32);
+                        best = if closest.index == i as u32 { Best::Sphere } else { best };
+                    }
+                }
+                run.others().for_each(|i| group.offer(i, ray, probe, closest, &mut best));
+            },
+        );
+        // Media last, when the nearest surface bounds how far they must look ([`Medium::hit`]
+        // then rarely searches its boundary).
+        group.runs.media().for_each(|i| group.offer(i, ray, probe, &mut closest, &mut best));
+        match (best, group.objects.get(closest.index as usize)?) {
+            (Best::Quad(alpha, beta), Object::Quad(quad)) => Some(quad.hit_at(ray, closest.t, alpha, beta)),
+            (Best::Sphere, Object::Sphere(sphere)) => {
+                let hit = sphere.hit_at(ray, closest.t);
+                Some(if group.uv { sphere.with_uv(hit) } else { hit })
+            }
+            (Best::Other(hit), object) => Some(if group.uv { object.with_uv(hit, probe) } else { hit }),
+            _ => None,
+        }
+    }
+}
+
+impl WithLanes8 for Blocked<'_> {
+    type Output = bool;
+    #[inline(always)]
+    fn run<L: Lanes8>(self, lanes: L) -> bool {
+        let Blocked(group, ray, t_max, probe) = self;
+        let blocks = |i: usize| group.objects[i].occludes(ray, t_max, probe);
         let mut found = false;
         let mut closest = Closest::none(t_max);
-        self.runs.search(ray, &mut closest, |run, closest| {
-            if run.quads_block(ray, t_max) || run.spheres().chain(run.others()).any(blocks) {
-                found = true;
-                closest.rule_out_rest();
-            }
-        });
-        found || self.runs.media().any(blocks)
+        group.runs.search(
+            lanes,
+            ray,
+            &mut closest,
+            #[inline(always)]
+            |run: &Run, closest: &mut Closest| {
+                if run.quads_block(lanes, ray, t_max) || run.spheres().chain(run.others()).any(blocks) {
+                    found = true;
+                    closest.rule_out_rest();
+                }
+            },
+        );
+        found || group.runs.media().any(blocks)
     }
 }
 
@@ -319,9 +342,8 @@ impl Bounded for Group {
     }
 }
 
-// ---- Instances:
-// An instance: a group placed in the scene by a rigid transform. The ray is moved into the
-// group's frame and the hit moved back (the books' `translate` and `rotate_y`, pbrt's
+// ---- Instances: a group placed by a rigid transform. The ray is moved into the group's
+// frame and the hit moved back (the books' `translate` and `rotate_y`, pbrt's
 // `TransformedPrimitive`), so the geometry exists once however many times it is placed.
 
 /// A group and where it is placed.
@@ -350,8 +372,7 @@ impl Instance {
     }
 
     /// The nearest hit in `(0, t_max)`: found in the group's frame (a rigid placement keeps
-    /// distances), then placed in the world's. The spawn offset grows by the rounding of
-    /// placing the point.
+    /// distances), then placed in the world's, its spawn offset grown by that rounding.
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
         let local = self.transform.inverse_ray(ray);
@@ -367,16 +388,14 @@ impl Instance {
     }
 }
 
-// ---- Media:
-// A participating medium of constant density (the second book's `constant_medium`): fog or
-// smoke filling a closed boundary. A ray crossing `L` of it scatters with probability
-// `1 − e^(−density·L)`, at a distance drawn from that exponential law, into a direction
-// drawn by the isotropic phase function (`Material::Isotropic`).
+// ---- Media: a participating medium of constant density (the second book's
+// `constant_medium`): fog or smoke filling a closed boundary. A ray crossing `L` of it
+// scatters with probability `1 − e^(−density·L)`, at a distance drawn from that exponential
+// law, into a direction drawn by the isotropic phase function (`Material::Isotropic`).
 //
-// The boundary is any closed group. Where the ray is decides the interval: if the boundary's
-// first hit is a front face, the ray enters there and leaves at the next hit; if it is a back
-// face, the ray starts inside (a camera in global fog, a path that scattered in the smoke)
-// and leaves there.
+// The boundary is any closed group. If its first hit is a front face, the ray enters there
+// and leaves at the next hit; if a back face, the ray starts inside (a camera in global fog,
+// a path that scattered in the smoke) and leaves there.
 
 /// Fog or smoke inside `boundary`.
 #[derive(Clone, Debug)]

@@ -1,8 +1,8 @@
-//! How a group's objects are searched ([`Runs`]): its surfaces in **runs** of up to four, a
-//! leaf of a tree each or, for a small group, four in a row, each run's quads in the lanes of
-//! one [`QuadPacket`] and its other objects asked one by one; and its media asked last, when
-//! the nearest surface bounds how far they must look (`object.rs`, which holds the group, asks
-//! the objects themselves).
+//! How a group's objects are searched ([`Runs`]): its surfaces in **runs** of up to eight, a
+//! leaf of an eight-wide tree each or, for a small group, all in one, each run's quads in the
+//! lanes of one [`QuadPacket`] and its other objects asked one by one; and its media asked
+//! last, when the nearest surface bounds how far they must look (`object.rs`, which holds the
+//! group, asks the objects themselves).
 //!
 //! The media stay out of the tree: a thin fog's box spans the whole world (the second book's
 //! spans 10,000 units), and in a leaf it would send every ray through that leaf and the
@@ -10,28 +10,40 @@
 //! its nearest hit below the bound it is given, and the closest is the least
 //! `(distance, index)` of them all ([`Closest`]), whatever the order it was offered in.
 
+use std::ops::Range;
+
 use crate::tracer::accel::bvh::Bvh;
-use crate::tracer::accel::wide::WideBvh;
+use crate::tracer::accel::wide8::Bvh8;
 use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::quads::{LANES, QuadPacket};
 use crate::tracer::math::aabb::{Aabb, Bounded};
+use crate::tracer::math::lanes::Lanes8;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3};
 
-/// Groups of at most this many objects are searched without their tree, run after run (an
+/// Groups of at most this many objects (one run) are searched without their tree (an
 /// instance's only once the ray enters its box): a tree's traversal costs more than it saves
 /// there.
-pub const FLAT_MAX_OBJECTS: usize = 8;
+pub const FLAT_MAX_OBJECTS: usize = LANES;
 
-/// Orders `objects` as the leaves of a four-wide tree over their boxes (a leaf, one run, of up
-/// to [`LANES`] each), and gives that tree if there are more than [`FLAT_MAX_OBJECTS`] of them.
-pub fn ordered<T: Bounded>(objects: &mut [T]) -> Option<WideBvh> {
+/// An eight-wide tree over a group's objects, and its leaves' ranges of them, by leaf number.
+pub type Tree = (Bvh8, Vec<Range<usize>>);
+
+/// Objects per leaf of a group's tree: four, as the spheres' trees have them, though a run
+/// holds eight (a small group's whole search): leaves of eight quads made the second book's
+/// ground of boxes slower (`results/books.md`), each leaf's box taking in more that a ray
+/// does not hit.
+const LEAF_OBJECTS: usize = LANES / 2;
+
+/// Orders `objects` as the leaves of an eight-wide tree over their boxes (a leaf, one run, of
+/// up to [`LEAF_OBJECTS`] each), and gives that tree if there are more than
+/// [`FLAT_MAX_OBJECTS`] of them.
+pub fn ordered<T: Bounded>(objects: &mut [T]) -> Option<Tree> {
     if objects.is_empty() {
         return None;
     }
-    let binary = Bvh::build_with_leaves(objects, LANES);
-    let tree = WideBvh::collapse_plain(&binary, objects.len());
+    let tree = Bvh8::collapse(&Bvh::build_with_leaves(objects, LEAF_OBJECTS));
     (objects.len() > FLAT_MAX_OBJECTS).then_some(tree)
 }
 
@@ -74,8 +86,8 @@ pub enum Best {
 /// A group's search: its surfaces' runs (through a tree, or one after another) and its media.
 #[derive(Clone, Debug)]
 pub struct Runs {
-    /// Over the surfaces; run `k` is its leaf `k` (`WideBvh::number_leaves`).
-    tree: Option<WideBvh>,
+    /// Over the surfaces; run `k` is its leaf `k`.
+    tree: Option<Bvh8>,
     runs: Vec<Run>,
     media: Vec<u32>,
 }
@@ -115,7 +127,7 @@ impl Runs {
     /// The search over `items`, a group's objects in its order: through `tree` (built over all
     /// of them, in that order) if there is one, or, if some of them are media, a tree of the
     /// other objects' boxes built here; without a tree, four objects in a row.
-    pub fn new(items: &[Item], tree: Option<WideBvh>) -> Runs {
+    pub fn new(items: &[Item], tree: Option<Tree>) -> Runs {
         let media: Vec<u32> =
             (0..items.len() as u32).filter(|&i| matches!(items[i as usize].kind, Kind::Medium)).collect();
         let mut surfaces: Vec<Surface> = (0..items.len() as u32)
@@ -126,17 +138,19 @@ impl Runs {
                 centroid: items[index as usize].centroid,
             })
             .collect();
-        let mut tree = match tree {
+        let tree = match tree {
             Some(_) if !media.is_empty() && !surfaces.is_empty() => {
-                let binary = Bvh::build_with_leaves(&mut surfaces, LANES);
-                Some(WideBvh::collapse_plain(&binary, surfaces.len()))
+                Some(Bvh8::collapse(&Bvh::build_with_leaves(&mut surfaces, LEAF_OBJECTS)))
             }
             Some(_) if !media.is_empty() => None,
             tree => tree,
         };
-        let ranges = match &mut tree {
-            Some(tree) => tree.number_leaves(),
-            None => (0..surfaces.len()).step_by(LANES).map(|s| s..(s + LANES).min(surfaces.len())).collect(),
+        let (tree, ranges) = match tree {
+            Some((tree, ranges)) => (Some(tree), ranges),
+            None => {
+                let runs = (0..surfaces.len()).step_by(LANES).map(|s| s..(s + LANES).min(surfaces.len()));
+                (None, runs.collect())
+            }
         };
         let runs = ranges
             .into_iter()
@@ -150,7 +164,7 @@ impl Runs {
                     Some(Kind::Quad(quad)) => Some(*quad),
                     _ => None,
                 };
-                let quads: [Option<&Quad>; LANES] = std::array::from_fn(quad);
+                let quads: Vec<Option<&Quad>> = (0..chosen.len()).map(quad).collect();
                 let kinds = |of: fn(&Kind) -> bool| {
                     (0..chosen.len())
                         .filter(|&k| of(&items[chosen[k].index as usize].kind))
@@ -159,7 +173,7 @@ impl Runs {
                 let quads_mask = kinds(|kind| matches!(kind, Kind::Quad(_)));
                 let spheres = kinds(|kind| matches!(kind, Kind::Sphere));
                 let others = kinds(|kind| matches!(kind, Kind::Other));
-                Run { indices, quads_mask, spheres, others, quads: QuadPacket::new(quads) }
+                Run { indices, quads_mask, spheres, others, quads: QuadPacket::new(&quads) }
             })
             .collect();
         Runs { tree, runs, media }
@@ -173,10 +187,26 @@ impl Runs {
     /// Visits every run the ray may find a hit in before `closest.t` (a tree's leaves nearest
     /// first, pruned by the closest hit so far); `visit` offers the run's hits to `closest`.
     #[inline(always)]
-    pub fn search(&self, ray: &Ray, closest: &mut Closest, mut visit: impl FnMut(&Run, &mut Closest)) {
+    pub fn search<L: Lanes8>(
+        &self,
+        lanes: L,
+        ray: &Ray,
+        closest: &mut Closest,
+        mut visit: impl FnMut(&Run, &mut Closest),
+    ) {
         match &self.tree {
-            None => self.runs.iter().for_each(|run| visit(run, closest)),
-            Some(tree) => tree.traverse(ray, closest, |leaf, closest| visit(&self.runs[leaf.start], closest)),
+            None => {
+                for run in &self.runs {
+                    visit(run, closest);
+                }
+            }
+            Some(tree) => tree.traverse(
+                lanes,
+                ray,
+                closest,
+                #[inline(always)]
+                |leaf: usize, closest: &mut Closest| visit(&self.runs[leaf], closest),
+            ),
         }
     }
 
@@ -190,22 +220,21 @@ impl Run {
     /// Offers its quads' nearest hit below `closest`'s bound to `closest`; if it became the
     /// closest, its `(α, β)`.
     #[inline(always)]
-    pub fn offer_quads(&self, ray: &Ray, closest: &mut Closest) -> Option<(Real, Real)> {
+    pub fn offer_quads<L: Lanes8>(&self, lanes: L, ray: &Ray, closest: &mut Closest) -> Option<(Real, Real)> {
         if self.quads_mask == 0 {
             return None;
         }
-        let hits = self.quads.intersect(ray, closest.bound());
+        let hits = self.quads.intersect(lanes, ray, closest.bound());
         let k = hits.nearest()?;
         let i = self.indices[k];
-        // Lanes by array index: a vector's own `[k]` is a jump table.
-        closest.offer(hits.t.to_array()[k], i);
-        (closest.index == i).then(|| (hits.alpha.to_array()[k], hits.beta.to_array()[k]))
+        closest.offer(hits.t[k], i);
+        (closest.index == i).then(|| (hits.alpha[k], hits.beta[k]))
     }
 
     /// Whether one of its quads is hit in `(0, t_max)`.
     #[inline(always)]
-    pub fn quads_block(&self, ray: &Ray, t_max: Real) -> bool {
-        self.quads_mask != 0 && self.quads.intersect(ray, t_max).mask != 0
+    pub fn quads_block<L: Lanes8>(&self, lanes: L, ray: &Ray, t_max: Real) -> bool {
+        self.quads_mask != 0 && self.quads.intersect(lanes, ray, t_max).mask != 0
     }
 
     /// The group indices of its spheres.
