@@ -126,7 +126,7 @@ impl Bounded for Surface {
 impl Runs {
     /// The search over `items`, a group's objects in its order: through `tree` (built over all
     /// of them, in that order) if there is one, or, if some of them are media, a tree of the
-    /// other objects' boxes built here; without a tree, four objects in a row.
+    /// other objects' boxes built here; without a tree, eight objects in a row.
     pub fn new(items: &[Item], tree: Option<Tree>) -> Runs {
         let media: Vec<u32> =
             (0..items.len() as u32).filter(|&i| matches!(items[i as usize].kind, Kind::Medium)).collect();
@@ -194,6 +194,8 @@ impl Runs {
         closest: &mut Closest,
         mut visit: impl FnMut(&Run, &mut Closest),
     ) {
+        // Loops and closures forced inline: code left out of line is compiled for the
+        // baseline, whatever the level `lanes` stands for.
         match &self.tree {
             None => {
                 for run in &self.runs {
