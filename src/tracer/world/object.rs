@@ -147,8 +147,8 @@ impl Bounded for Object {
 // A group: objects searched together (a scene's world, what an instance places, what bounds
 // a medium) in runs, through an eight-wide tree of their boxes once there are enough of them,
 // a run's quads in the lanes of the scene's vector level (`runs.rs`); only the closest hit's
-// record is made, at the end. Ties in distance go to the lower index ([`Closest`]), so a
-// group searched through its tree finds exactly what testing its objects in order finds.
+// record is made, at the end. Ties go to the lower index ([`Closest`]), so a group searched
+// through its tree finds what testing its objects in order finds (`--accel flat`).
 
 /// Groups of fewer objects than this keep the order they were given; larger ones are ordered
 /// as their tree's leaves, the order in which ties go to the lower index.
