@@ -71,7 +71,6 @@ impl QuadPacket {
     /// Lane `k` holds `quads[k]`, or nothing (NaN) where that is `None`.
     ///
     /// ```
-    /// use raypool::tracer::accel::isa::Isa;
     /// use raypool::tracer::geometry::{quad::Quad, quads::QuadPacket};
     /// use raypool::tracer::math::lanes::Baseline8;
     /// use raypool::tracer::math::{ray::Ray, real::{Real, Vec3}};
