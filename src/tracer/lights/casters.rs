@@ -265,12 +265,9 @@ impl Casters {
                 Material::Dielectric { ior, fresnel } => Some(Ball { fresnel, ..Ball::new(*sphere, ior) }),
                 _ => None,
             },
-            Object::Sphere(_)
-            | Object::Moving(_)
-            | Object::Quad(_)
-            | Object::Mesh(..)
-            | Object::Instance(_)
-            | Object::Medium(_) => None,
+            // Only a still glass ball is aimed through: anything else, a new shape too, casts
+            // no caustic a path aims at (a bounce still finds it).
+            _ => None,
         });
         let middle = 0.5 * (lamps.min + lamps.max);
         let lamps = Lamps { center: middle, radius: (lamps.max - middle).length() };
