@@ -116,33 +116,6 @@ impl Object {
     }
 }
 
-impl Bounded for Object {
-    fn bounds(&self) -> Aabb {
-        match self {
-            Object::Sphere(s) => s.bounds(),
-            Object::Moving(m) => m.bounds(),
-            Object::Quad(q) => q.bounds(),
-            Object::Mesh(mesh, _) => mesh.bounds(),
-            Object::Instance(instance) => instance.bounds(),
-            Object::Medium(medium) => medium.boundary.bounds(),
-        }
-    }
-
-    fn centroid(&self) -> Vec3 {
-        match self {
-            Object::Sphere(s) => s.center,
-            Object::Moving(_)
-            | Object::Quad(_)
-            | Object::Mesh(..)
-            | Object::Instance(_)
-            | Object::Medium(_) => {
-                let b = self.bounds();
-                0.5 * (b.min + b.max)
-            }
-        }
-    }
-}
-
 // ---- Groups:
 // A group: objects searched together (a scene's world, what an instance places, what bounds
 // a medium) in runs, through an eight-wide tree of their boxes once there are enough of them,
