@@ -1,6 +1,7 @@
 //! The second book's shapes as a scene file writes them: `[[quad]]`, `[[box]]`,
 //! `[[triangle]]`, `[[mesh]]`, `[[medium]]` and `[[group]]` (objects placed together by one
-//! transform, the scene file's instances), their checks, and the objects they become.
+//! transform, the scene file's instances), and the objects they become (their checks are
+//! `shape_checks.rs`).
 //!
 //! ```toml
 //! [[quad]]
@@ -28,12 +29,11 @@
 use serde::{Deserialize, Serialize};
 
 use crate::scenes::assets::{Assets, GeneratedMesh};
-use crate::scenes::checks::{REAL, check, colour, finite3, representable};
+use crate::scenes::checks::{REAL, check, finite3, representable};
 use crate::scenes::looks::{Looks, MaterialRef, Tables};
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::{Quad, box_faces};
 use crate::tracer::geometry::sphere::Sphere;
-use crate::tracer::geometry::triangle;
 use crate::tracer::math::real::{Real, Vec3, vec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::shading::material::Material;
@@ -250,79 +250,6 @@ impl TransformSpec {
 }
 
 impl<'a> Shapes<'a> {
-    /// Checks every shape; `at` names where they are (`""` or `"group #2 "`).
-    pub fn check(self, looks: &Looks, at: &str) -> Result<(), String> {
-        let Shapes { spheres, quads, boxes, triangles, meshes, media } = self;
-        for (i, s) in spheres.iter().enumerate() {
-            let name = format!("{at}sphere #{} (center {:?})", i + 1, s.center);
-            check(finite3(s.center), || format!("{at}sphere #{}: center must be finite numbers", i + 1))?;
-            check(representable(s.radius) && s.radius != 0.0, || {
-                format!("{name}: radius must be finite (as {REAL}) and non-zero, got {}", s.radius)
-            })?;
-            check(s.center1.is_none_or(finite3), || format!("{name}: center1 must be finite numbers"))?;
-            looks.check_material(&s.material).map_err(|e| format!("{name}: {e}"))?;
-        }
-        for (i, q) in quads.iter().enumerate() {
-            let name = format!("{at}quad #{}", i + 1);
-            check(finite3(q.q) && finite3(q.u) && finite3(q.v), || {
-                format!("{name}: q, u, v must be finite numbers")
-            })?;
-            check(Quad::new(vec3(q.q), vec3(q.u), vec3(q.v), 0).is_some(), || {
-                format!("{name}: degenerate (u = {:?} and v = {:?} span no area)", q.u, q.v)
-            })?;
-            looks.check_material(&q.material).map_err(|e| format!("{name}: {e}"))?;
-        }
-        for (i, b) in boxes.iter().enumerate() {
-            let name = format!("{at}box #{}", i + 1);
-            check_box(b.min, b.max).map_err(|e| format!("{name}: {e}"))?;
-            b.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
-            looks.check_material(&b.material).map_err(|e| format!("{name}: {e}"))?;
-        }
-        for (i, t) in triangles.iter().enumerate() {
-            let name = format!("{at}triangle #{}", i + 1);
-            check(t.vertices.iter().all(|&v| finite3(v)), || {
-                format!("{name}: vertices must be finite numbers")
-            })?;
-            check(!triangle::degenerate(t.vertices.map(vec3)), || {
-                format!("{name}: degenerate (its vertices {:?} span no area)", t.vertices)
-            })?;
-            looks.check_material(&t.material).map_err(|e| format!("{name}: {e}"))?;
-        }
-        for (i, m) in meshes.iter().enumerate() {
-            let name = format!("{at}mesh #{}", i + 1);
-            check(m.obj.is_some() != m.generate.is_some(), || {
-                format!("{name}: needs exactly one of obj and generate")
-            })?;
-            if let Some(g) = &m.generate {
-                g.check().map_err(|e| format!("{name}: {e}"))?;
-            }
-            check(m.scale.is_none_or(|s| representable(s) && s > 0.0), || {
-                format!("{name}: scale must be finite (as {REAL}) and > 0")
-            })?;
-            m.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
-            looks.check_material(&m.material).map_err(|e| format!("{name}: {e}"))?;
-        }
-        for (i, m) in media.iter().enumerate() {
-            let name = format!("{at}medium #{}", i + 1);
-            check(representable(m.density) && m.density >= 0.0, || {
-                format!("{name}: density must be finite (as {REAL}) and ≥ 0, got {}", m.density)
-            })?;
-            colour(m.albedo).map_err(|e| format!("{name}: albedo {e}"))?;
-            match m.boundary {
-                BoundarySpec::Sphere { center, radius } => {
-                    check(finite3(center) && representable(radius) && radius > 0.0, || {
-                        format!("{name}: a boundary sphere needs a finite centre and a radius > 0")
-                    })?
-                }
-                BoundarySpec::Box { min, max } => {
-                    check_box(min, max).map_err(|e| format!("{name}: boundary {e}"))?
-                }
-            }
-            m.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
-        }
-        Ok(())
-    }
-
     /// Every shape's material reference, in order (a medium has none: its phase function is
     /// made from its albedo).
     pub fn material_refs(self) -> impl Iterator<Item = &'a MaterialRef> {
@@ -407,13 +334,6 @@ impl<'a> Shapes<'a> {
         }
         (still, objects)
     }
-}
-
-fn check_box(min: [f64; 3], max: [f64; 3]) -> Result<(), String> {
-    check(finite3(min) && finite3(max), || "min and max must be finite numbers".to_owned())?;
-    check((0..3).all(|k| min[k] != max[k]), || {
-        format!("degenerate: min {min:?} and max {max:?} span no volume")
-    })
 }
 
 fn box_objects(min: [f64; 3], max: [f64; 3], material: u32) -> Vec<Object> {
