@@ -12,6 +12,7 @@ impl Bounded for Object {
             Object::Sphere(s) => s.bounds(),
             Object::Moving(m) => m.bounds(),
             Object::Quad(q) => q.bounds(),
+            Object::Disc(d) => d.bounds(),
             Object::Mesh(mesh, _) => mesh.bounds(),
             Object::Instance(instance) => instance.bounds(),
             Object::Medium(medium) => medium.boundary.bounds(),
@@ -21,6 +22,7 @@ impl Bounded for Object {
     fn centroid(&self) -> Vec3 {
         match self {
             Object::Sphere(s) => s.center,
+            Object::Disc(d) => d.center,
             Object::Moving(_)
             | Object::Quad(_)
             | Object::Mesh(..)
