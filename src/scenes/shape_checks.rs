@@ -1,19 +1,20 @@
 //! The checks of a scene's shapes ([`Shapes::check`]): what TOML accepts but a renderer
-//! cannot use (numbers that are not finite, a zero radius, a degenerate quad, triangle or box),
-//! each refused with a message naming the shape. Apart from `world.rs`, which holds the shapes
-//! and what they become, to keep each file one sitting's reading.
+//! cannot use (numbers that are not finite, a zero radius, a degenerate quad, disc, triangle or
+//! box, a glowing disc), each refused with a message naming the shape. Apart from `world.rs`,
+//! which holds the shapes and what they become, to keep each file one sitting's reading.
 
 use crate::scenes::checks::{REAL, check, colour, finite3, representable};
 use crate::scenes::looks::Looks;
 use crate::scenes::world::{BoundarySpec, Shapes, TransformSpec};
+use crate::tracer::geometry::disc::Disc;
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::triangle;
-use crate::tracer::math::real::vec3;
+use crate::tracer::math::real::{Real, vec3};
 
 impl Shapes<'_> {
     /// Checks every shape; `at` names where they are (`""` or `"group #2 "`).
     pub fn check(self, looks: &Looks, at: &str) -> Result<(), String> {
-        let Shapes { spheres, quads, boxes, triangles, meshes, media } = self;
+        let Shapes { spheres, quads, discs, boxes, triangles, meshes, media } = self;
         for (i, s) in spheres.iter().enumerate() {
             let name = format!("{at}sphere #{} (center {:?})", i + 1, s.center);
             check(finite3(s.center), || format!("{at}sphere #{}: center must be finite numbers", i + 1))?;
@@ -32,6 +33,24 @@ impl Shapes<'_> {
                 format!("{name}: degenerate (u = {:?} and v = {:?} span no area)", q.u, q.v)
             })?;
             looks.check_material(&q.material).map_err(|e| format!("{name}: {e}"))?;
+        }
+        for (i, d) in discs.iter().enumerate() {
+            let name = format!("{at}disc #{}", i + 1);
+            check(finite3(d.center) && finite3(d.normal), || {
+                format!("{name}: center, normal must be finite numbers")
+            })?;
+            check(Disc::new(vec3(d.center), vec3(d.normal), d.radius as Real, 0).is_some(), || {
+                format!(
+                    "{name}: degenerate (normal {:?}, radius {}: needs a normal and a radius > 0)",
+                    d.normal, d.radius
+                )
+            })?;
+            looks.check_material(&d.material).map_err(|e| format!("{name}: {e}"))?;
+            // Not a light (`gather` in `lights/mod.rs`): a glowing disc would be weighed as if it
+            // could be drawn, and come out too dark.
+            check(!looks.emits(&d.material), || {
+                format!("{name}: a disc cannot be a diffuse_light (not a light shape)")
+            })?;
         }
         for (i, b) in boxes.iter().enumerate() {
             let name = format!("{at}box #{}", i + 1);

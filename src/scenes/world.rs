@@ -1,6 +1,6 @@
-//! The second book's shapes as a scene file writes them: `[[quad]]`, `[[box]]`,
-//! `[[triangle]]`, `[[mesh]]`, `[[medium]]` and `[[group]]` (objects placed together by one
-//! transform, the scene file's instances), and the objects they become (their checks are
+//! The second book's shapes as a scene file writes them: `[[quad]]`, `[[box]]`, pbrt's
+//! `[[disc]]`, `[[triangle]]`, `[[mesh]]`, `[[medium]]` and `[[group]]` (objects placed together
+//! by one transform, the scene file's instances), and the objects they become (their checks are
 //! `shape_checks.rs`).
 //!
 //! ```toml
@@ -9,6 +9,12 @@
 //! u = [0.0, 555.0, 0.0]
 //! v = [0.0, 0.0, 555.0]
 //! material = "green"
+//!
+//! [[disc]]
+//! center = [278.0, 0.1, 278.0]
+//! normal = [0.0, 1.0, 0.0]
+//! radius = 100.0
+//! material = "white"
 //!
 //! [[box]]
 //! min = [0.0, 0.0, 0.0]
@@ -31,6 +37,7 @@ use serde::{Deserialize, Serialize};
 use crate::scenes::assets::{Assets, GeneratedMesh};
 use crate::scenes::checks::{REAL, check, finite3, representable};
 use crate::scenes::looks::{Looks, MaterialRef, Tables};
+use crate::tracer::geometry::disc::Disc;
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::{Quad, box_faces};
 use crate::tracer::geometry::sphere::Sphere;
@@ -67,6 +74,20 @@ pub struct QuadSpec {
     pub u: [f64; 3],
     /// Second edge.
     pub v: [f64; 3],
+    /// Its material.
+    pub material: MaterialRef,
+}
+
+/// One `[[disc]]`: the points of a plane within `radius` of `center`, facing `normal`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiscSpec {
+    /// Its centre.
+    pub center: [f64; 3],
+    /// The direction its front faces (any length but zero).
+    pub normal: [f64; 3],
+    /// Its radius, > 0.
+    pub radius: f64,
     /// Its material.
     pub material: MaterialRef,
 }
@@ -191,6 +212,9 @@ pub struct GroupSpec {
     /// `[[group.quad]]` tables.
     #[serde(default, rename = "quad", skip_serializing_if = "Vec::is_empty")]
     pub quads: Vec<QuadSpec>,
+    /// `[[group.disc]]` tables.
+    #[serde(default, rename = "disc", skip_serializing_if = "Vec::is_empty")]
+    pub discs: Vec<DiscSpec>,
     /// `[[group.box]]` tables.
     #[serde(default, rename = "box", skip_serializing_if = "Vec::is_empty")]
     pub boxes: Vec<BoxSpec>,
@@ -208,8 +232,8 @@ pub struct GroupSpec {
 impl GroupSpec {
     /// Its shape lists (every field named, so that a new one is a compile error here).
     pub fn shapes(&self) -> Shapes<'_> {
-        let GroupSpec { transform: _, spheres, quads, boxes, triangles, meshes, media } = self;
-        Shapes { spheres, quads, boxes, triangles, meshes, media }
+        let GroupSpec { transform: _, spheres, quads, discs, boxes, triangles, meshes, media } = self;
+        Shapes { spheres, quads, discs, boxes, triangles, meshes, media }
     }
 }
 
@@ -221,6 +245,8 @@ pub struct Shapes<'a> {
     pub spheres: &'a [SphereSpec],
     /// `[[quad]]` tables.
     pub quads: &'a [QuadSpec],
+    /// `[[disc]]` tables.
+    pub discs: &'a [DiscSpec],
     /// `[[box]]` tables.
     pub boxes: &'a [BoxSpec],
     /// `[[triangle]]` tables.
@@ -253,9 +279,9 @@ impl<'a> Shapes<'a> {
     /// Every shape's material reference, in order (a medium has none: its phase function is
     /// made from its albedo).
     pub fn material_refs(self) -> impl Iterator<Item = &'a MaterialRef> {
-        let Shapes { spheres, quads, boxes, triangles, meshes, media: _ } = self;
+        let Shapes { spheres, quads, discs, boxes, triangles, meshes, media: _ } = self;
         let s = spheres.iter().map(|x| &x.material);
-        let q = quads.iter().map(|x| &x.material);
+        let q = quads.iter().map(|x| &x.material).chain(discs.iter().map(|x| &x.material));
         let b = boxes.iter().map(|x| &x.material);
         let t = triangles.iter().map(|x| &x.material);
         s.chain(q).chain(b).chain(t).chain(meshes.iter().map(|x| &x.material))
@@ -270,7 +296,7 @@ impl<'a> Shapes<'a> {
         tables: &mut Tables,
         made: &mut u32,
     ) -> (Vec<Sphere>, Vec<Object>) {
-        let Shapes { spheres, quads, boxes, triangles, meshes, media } = self;
+        let Shapes { spheres, quads, discs, boxes, triangles, meshes, media } = self;
         let mut material = |m: &MaterialRef| tables.material(looks, assets, m);
         let mut still = Vec::new();
         let mut objects = Vec::new();
@@ -290,6 +316,10 @@ impl<'a> Shapes<'a> {
             let quad = Quad::new(vec3(q.q), vec3(q.u), vec3(q.v), material(&q.material))
                 .expect("checked: not degenerate");
             objects.push(Object::Quad(quad));
+        }
+        for d in discs {
+            let disc = Disc::new(vec3(d.center), vec3(d.normal), d.radius as Real, material(&d.material));
+            objects.push(Object::Disc(disc.expect("checked: not degenerate")));
         }
         for b in boxes {
             let faces = box_objects(b.min, b.max, material(&b.material));
