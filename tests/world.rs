@@ -295,3 +295,38 @@ fn a_moving_light_leaves_a_streak_as_bright_as_the_share_of_the_shutter_it_cover
     // The streak is 1.2 units long, 16 px at this distance; the still sphere would be 3 px wide.
     assert!(streak >= 16 && brightest < 0.5, "a streak, not a sphere: {streak} px, max {brightest}");
 }
+
+#[test]
+fn a_disc_is_met_within_its_radius_from_either_side_and_renders_from_a_scene_file() {
+    use raypool::tracer::geometry::disc::Disc;
+    // Radius 2 about (1, 0, −3), facing +z (its normal given at length 2).
+    let disc = Disc::new(Vec3::new(1.0, 0.0, -3.0), Vec3::new(0.0, 0.0, 2.0), 2.0, 0).unwrap();
+    let along = |x: Real, y: Real, z: Real, dir: Vec3| disc.hit(&Ray::new(Vec3::new(x, y, z), dir), 10.0);
+    let front = along(2.9, 0.0, 0.0, -Vec3::Z).expect("1.9 from the centre");
+    assert!(front.front_face && front.normal == Vec3::Z && front.t == 3.0, "{front:?}");
+    let back = along(-0.9, 0.0, -6.0, Vec3::Z).expect("from behind too");
+    assert!(!back.front_face && back.normal == -Vec3::Z && back.t == 3.0, "{back:?}");
+    let (front, back) = (disc.with_uv(front), disc.with_uv(back));
+    assert!((front.v - 0.95).abs() < 1e-6 && (back.v - 0.95).abs() < 1e-6, "v: distance / radius");
+    assert!(((front.u - back.u).abs() - 0.5).abs() < 1e-6, "opposite points, half a turn apart in u");
+    assert!(along(3.1, 0.0, 0.0, -Vec3::Z).is_none(), "2.1 from the centre");
+    assert!(along(2.5, 1.5, 0.0, -Vec3::Z).is_none(), "2.12 from the centre, diagonally");
+    assert!(along(2.9, 0.0, 0.0, Vec3::Z).is_none(), "behind the ray");
+    // A black disc facing the camera and a smaller one placed by a group, under a white sky:
+    // pixels wholly on either are exactly black, the corners exactly white.
+    let black = "{ kind = \"lambertian\", albedo = [0.0, 0.0, 0.0] }";
+    let text = format!(
+        "{CAMERA}[background]\nkind = \"constant\"\ncolor = [1.0, 1.0, 1.0]\n\
+         [[disc]]\ncenter = [0.0, 0.0, -3.0]\nnormal = [0.0, 0.0, 1.0]\nradius = 1.0\nmaterial = {black}\n\
+         [[group]]\ntransform = {{ translate = [1.2, 1.2, -3.0] }}\n\
+         [[group.disc]]\ncenter = [0.0, 0.0, 0.0]\nnormal = [0.0, 1.0, 1.0]\nradius = 0.4\nmaterial = {black}\n"
+    );
+    let settings = RenderSettings { width: 16, height: 16, spp: 4, max_depth: 4, ..Default::default() };
+    let pixels = render(&text, settings);
+    let at = |x: usize, y: usize| pixels[y * 16 + x];
+    assert_eq!((at(7, 7), at(8, 8), at(13, 2)), (Vec3::ZERO, Vec3::ZERO, Vec3::ZERO), "on the discs");
+    assert_eq!((at(0, 0), at(15, 15), at(0, 15)), (Vec3::ONE, Vec3::ONE, Vec3::ONE), "beside them");
+    let glowing = text.replacen("lambertian\", albedo", "diffuse_light\", emit", 1);
+    let error = SceneFile::parse(&glowing, "glowing.toml").unwrap_err().to_string();
+    assert!(error.contains("disc #1: a disc cannot be a diffuse_light"), "{error}");
+}

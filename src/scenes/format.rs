@@ -50,7 +50,7 @@ use crate::tracer::scene::Scene;
 use crate::tracer::shading::background::Background;
 
 pub use crate::scenes::looks::{MaterialRef, MaterialSpec};
-pub use crate::scenes::world::{BoxSpec, MediumSpec, QuadSpec, SphereSpec, TriangleSpec};
+pub use crate::scenes::world::{BoxSpec, DiscSpec, MediumSpec, QuadSpec, SphereSpec, TriangleSpec};
 
 /// A whole scene file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -73,6 +73,9 @@ pub struct SceneFile {
     /// `[[quad]]` tables.
     #[serde(default, rename = "quad", skip_serializing_if = "Vec::is_empty")]
     pub quads: Vec<QuadSpec>,
+    /// `[[disc]]` tables.
+    #[serde(default, rename = "disc", skip_serializing_if = "Vec::is_empty")]
+    pub discs: Vec<DiscSpec>,
     /// `[[box]]` tables.
     #[serde(default, rename = "box", skip_serializing_if = "Vec::is_empty")]
     pub boxes: Vec<BoxSpec>,
@@ -198,6 +201,7 @@ impl SceneFile {
             textures: BTreeMap::new(),
             spheres: Vec::new(),
             quads: Vec::new(),
+            discs: Vec::new(),
             boxes: Vec::new(),
             triangles: Vec::new(),
             meshes: Vec::new(),
@@ -217,6 +221,7 @@ impl SceneFile {
             textures: _,
             spheres,
             quads,
+            discs,
             boxes,
             triangles,
             meshes,
@@ -224,7 +229,7 @@ impl SceneFile {
             groups: _,
             assets: _,
         } = self;
-        Shapes { spheres, quads, boxes, triangles, meshes, media }
+        Shapes { spheres, quads, discs, boxes, triangles, meshes, media }
     }
 
     /// Every shape list: the top level's, then each group's.

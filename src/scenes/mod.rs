@@ -9,6 +9,7 @@
 pub mod checks;
 pub mod looks;
 pub mod world;
+mod shape_checks;
 pub mod assets;
 pub mod format;
 pub mod builtin;

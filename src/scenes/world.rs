@@ -1,6 +1,7 @@
-//! The second book's shapes as a scene file writes them: `[[quad]]`, `[[box]]`,
-//! `[[triangle]]`, `[[mesh]]`, `[[medium]]` and `[[group]]` (objects placed together by one
-//! transform, the scene file's instances), their checks, and the objects they become.
+//! The second book's shapes as a scene file writes them: `[[quad]]`, `[[box]]`, pbrt's
+//! `[[disc]]`, `[[triangle]]`, `[[mesh]]`, `[[medium]]` and `[[group]]` (objects placed together
+//! by one transform, the scene file's instances), and the objects they become (their checks are
+//! `shape_checks.rs`).
 //!
 //! ```toml
 //! [[quad]]
@@ -8,6 +9,12 @@
 //! u = [0.0, 555.0, 0.0]
 //! v = [0.0, 0.0, 555.0]
 //! material = "green"
+//!
+//! [[disc]]
+//! center = [278.0, 0.1, 278.0]
+//! normal = [0.0, 1.0, 0.0]
+//! radius = 100.0
+//! material = "white"
 //!
 //! [[box]]
 //! min = [0.0, 0.0, 0.0]
@@ -28,12 +35,12 @@
 use serde::{Deserialize, Serialize};
 
 use crate::scenes::assets::{Assets, GeneratedMesh};
-use crate::scenes::checks::{REAL, check, colour, finite3, representable};
+use crate::scenes::checks::{REAL, check, finite3, representable};
 use crate::scenes::looks::{Looks, MaterialRef, Tables};
+use crate::tracer::geometry::disc::Disc;
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::{Quad, box_faces};
 use crate::tracer::geometry::sphere::Sphere;
-use crate::tracer::geometry::triangle;
 use crate::tracer::math::real::{Real, Vec3, vec3};
 use crate::tracer::math::transform::Transform;
 use crate::tracer::shading::material::Material;
@@ -67,6 +74,20 @@ pub struct QuadSpec {
     pub u: [f64; 3],
     /// Second edge.
     pub v: [f64; 3],
+    /// Its material.
+    pub material: MaterialRef,
+}
+
+/// One `[[disc]]`: the points of a plane within `radius` of `center`, facing `normal`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiscSpec {
+    /// Its centre.
+    pub center: [f64; 3],
+    /// The direction its front faces (any length but zero).
+    pub normal: [f64; 3],
+    /// Its radius, > 0.
+    pub radius: f64,
     /// Its material.
     pub material: MaterialRef,
 }
@@ -191,6 +212,9 @@ pub struct GroupSpec {
     /// `[[group.quad]]` tables.
     #[serde(default, rename = "quad", skip_serializing_if = "Vec::is_empty")]
     pub quads: Vec<QuadSpec>,
+    /// `[[group.disc]]` tables.
+    #[serde(default, rename = "disc", skip_serializing_if = "Vec::is_empty")]
+    pub discs: Vec<DiscSpec>,
     /// `[[group.box]]` tables.
     #[serde(default, rename = "box", skip_serializing_if = "Vec::is_empty")]
     pub boxes: Vec<BoxSpec>,
@@ -208,8 +232,8 @@ pub struct GroupSpec {
 impl GroupSpec {
     /// Its shape lists (every field named, so that a new one is a compile error here).
     pub fn shapes(&self) -> Shapes<'_> {
-        let GroupSpec { transform: _, spheres, quads, boxes, triangles, meshes, media } = self;
-        Shapes { spheres, quads, boxes, triangles, meshes, media }
+        let GroupSpec { transform: _, spheres, quads, discs, boxes, triangles, meshes, media } = self;
+        Shapes { spheres, quads, discs, boxes, triangles, meshes, media }
     }
 }
 
@@ -221,6 +245,8 @@ pub struct Shapes<'a> {
     pub spheres: &'a [SphereSpec],
     /// `[[quad]]` tables.
     pub quads: &'a [QuadSpec],
+    /// `[[disc]]` tables.
+    pub discs: &'a [DiscSpec],
     /// `[[box]]` tables.
     pub boxes: &'a [BoxSpec],
     /// `[[triangle]]` tables.
@@ -250,85 +276,12 @@ impl TransformSpec {
 }
 
 impl<'a> Shapes<'a> {
-    /// Checks every shape; `at` names where they are (`""` or `"group #2 "`).
-    pub fn check(self, looks: &Looks, at: &str) -> Result<(), String> {
-        let Shapes { spheres, quads, boxes, triangles, meshes, media } = self;
-        for (i, s) in spheres.iter().enumerate() {
-            let name = format!("{at}sphere #{} (center {:?})", i + 1, s.center);
-            check(finite3(s.center), || format!("{at}sphere #{}: center must be finite numbers", i + 1))?;
-            check(representable(s.radius) && s.radius != 0.0, || {
-                format!("{name}: radius must be finite (as {REAL}) and non-zero, got {}", s.radius)
-            })?;
-            check(s.center1.is_none_or(finite3), || format!("{name}: center1 must be finite numbers"))?;
-            looks.check_material(&s.material).map_err(|e| format!("{name}: {e}"))?;
-        }
-        for (i, q) in quads.iter().enumerate() {
-            let name = format!("{at}quad #{}", i + 1);
-            check(finite3(q.q) && finite3(q.u) && finite3(q.v), || {
-                format!("{name}: q, u, v must be finite numbers")
-            })?;
-            check(Quad::new(vec3(q.q), vec3(q.u), vec3(q.v), 0).is_some(), || {
-                format!("{name}: degenerate (u = {:?} and v = {:?} span no area)", q.u, q.v)
-            })?;
-            looks.check_material(&q.material).map_err(|e| format!("{name}: {e}"))?;
-        }
-        for (i, b) in boxes.iter().enumerate() {
-            let name = format!("{at}box #{}", i + 1);
-            check_box(b.min, b.max).map_err(|e| format!("{name}: {e}"))?;
-            b.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
-            looks.check_material(&b.material).map_err(|e| format!("{name}: {e}"))?;
-        }
-        for (i, t) in triangles.iter().enumerate() {
-            let name = format!("{at}triangle #{}", i + 1);
-            check(t.vertices.iter().all(|&v| finite3(v)), || {
-                format!("{name}: vertices must be finite numbers")
-            })?;
-            check(!triangle::degenerate(t.vertices.map(vec3)), || {
-                format!("{name}: degenerate (its vertices {:?} span no area)", t.vertices)
-            })?;
-            looks.check_material(&t.material).map_err(|e| format!("{name}: {e}"))?;
-        }
-        for (i, m) in meshes.iter().enumerate() {
-            let name = format!("{at}mesh #{}", i + 1);
-            check(m.obj.is_some() != m.generate.is_some(), || {
-                format!("{name}: needs exactly one of obj and generate")
-            })?;
-            if let Some(g) = &m.generate {
-                g.check().map_err(|e| format!("{name}: {e}"))?;
-            }
-            check(m.scale.is_none_or(|s| representable(s) && s > 0.0), || {
-                format!("{name}: scale must be finite (as {REAL}) and > 0")
-            })?;
-            m.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
-            looks.check_material(&m.material).map_err(|e| format!("{name}: {e}"))?;
-        }
-        for (i, m) in media.iter().enumerate() {
-            let name = format!("{at}medium #{}", i + 1);
-            check(representable(m.density) && m.density >= 0.0, || {
-                format!("{name}: density must be finite (as {REAL}) and ≥ 0, got {}", m.density)
-            })?;
-            colour(m.albedo).map_err(|e| format!("{name}: albedo {e}"))?;
-            match m.boundary {
-                BoundarySpec::Sphere { center, radius } => {
-                    check(finite3(center) && representable(radius) && radius > 0.0, || {
-                        format!("{name}: a boundary sphere needs a finite centre and a radius > 0")
-                    })?
-                }
-                BoundarySpec::Box { min, max } => {
-                    check_box(min, max).map_err(|e| format!("{name}: boundary {e}"))?
-                }
-            }
-            m.transform.as_ref().map_or(Ok(()), TransformSpec::check).map_err(|e| format!("{name}: {e}"))?;
-        }
-        Ok(())
-    }
-
     /// Every shape's material reference, in order (a medium has none: its phase function is
     /// made from its albedo).
     pub fn material_refs(self) -> impl Iterator<Item = &'a MaterialRef> {
-        let Shapes { spheres, quads, boxes, triangles, meshes, media: _ } = self;
+        let Shapes { spheres, quads, discs, boxes, triangles, meshes, media: _ } = self;
         let s = spheres.iter().map(|x| &x.material);
-        let q = quads.iter().map(|x| &x.material);
+        let q = quads.iter().map(|x| &x.material).chain(discs.iter().map(|x| &x.material));
         let b = boxes.iter().map(|x| &x.material);
         let t = triangles.iter().map(|x| &x.material);
         s.chain(q).chain(b).chain(t).chain(meshes.iter().map(|x| &x.material))
@@ -343,7 +296,7 @@ impl<'a> Shapes<'a> {
         tables: &mut Tables,
         made: &mut u32,
     ) -> (Vec<Sphere>, Vec<Object>) {
-        let Shapes { spheres, quads, boxes, triangles, meshes, media } = self;
+        let Shapes { spheres, quads, discs, boxes, triangles, meshes, media } = self;
         let mut material = |m: &MaterialRef| tables.material(looks, assets, m);
         let mut still = Vec::new();
         let mut objects = Vec::new();
@@ -363,6 +316,10 @@ impl<'a> Shapes<'a> {
             let quad = Quad::new(vec3(q.q), vec3(q.u), vec3(q.v), material(&q.material))
                 .expect("checked: not degenerate");
             objects.push(Object::Quad(quad));
+        }
+        for d in discs {
+            let disc = Disc::new(vec3(d.center), vec3(d.normal), d.radius as Real, material(&d.material));
+            objects.push(Object::Disc(disc.expect("checked: not degenerate")));
         }
         for b in boxes {
             let faces = box_objects(b.min, b.max, material(&b.material));
@@ -407,13 +364,6 @@ impl<'a> Shapes<'a> {
         }
         (still, objects)
     }
-}
-
-fn check_box(min: [f64; 3], max: [f64; 3]) -> Result<(), String> {
-    check(finite3(min) && finite3(max), || "min and max must be finite numbers".to_owned())?;
-    check((0..3).all(|k| min[k] != max[k]), || {
-        format!("degenerate: min {min:?} and max {max:?} span no volume")
-    })
 }
 
 fn box_objects(min: [f64; 3], max: [f64; 3], material: u32) -> Vec<Object> {

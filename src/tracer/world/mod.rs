@@ -9,6 +9,7 @@
 //! A scene of the first book's spheres and materials never touches this room: it keeps its
 //! own sphere search, and its rays pay for nothing here (`scene.rs`, `render.rs`).
 
+mod bounds;
 pub mod mesh;
 pub mod object;
 pub mod probe;

@@ -7,6 +7,7 @@
 //! [`Medium`]): an object may be made of objects, so these types are one recursive family, and
 //! one file keeps the imports free of circles.
 
+use crate::tracer::geometry::disc::Disc;
 use crate::tracer::geometry::hit::{Closest, Hit};
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::Quad;
@@ -31,6 +32,8 @@ pub enum Object {
     Moving(MovingSphere),
     /// A parallelogram.
     Quad(Quad),
+    /// A disc.
+    Disc(Disc),
     /// A triangle mesh (shared: one mesh may be placed many times) and its material.
     Mesh(Arc<Mesh>, u32),
     /// A group placed by a rigid transform.
@@ -50,6 +53,7 @@ impl Object {
                 let (t, alpha, beta) = quad.intersect(ray, t_max)?;
                 Some(quad.hit_at(ray, t, alpha, beta))
             }
+            Object::Disc(disc) => disc.hit(ray, t_max),
             Object::Mesh(mesh, material) => mesh.hit(ray, t_max, *material, probe.isa),
             Object::Instance(instance) => instance.hit(ray, t_max, probe),
             Object::Medium(medium) => medium.hit(ray, t_max, probe),
@@ -57,12 +61,13 @@ impl Object {
     }
 
     /// `hit`, its closest, with what [`Object::hit`] left out for hits that may not be the
-    /// closest: a sphere's texture coordinates.
+    /// closest: a sphere's or a disc's texture coordinates.
     #[inline]
     fn with_uv(&self, hit: Hit, probe: &Probe) -> Hit {
         match self {
             Object::Sphere(sphere) => sphere.with_uv(hit),
             Object::Moving(moving) => moving.at(probe.time).with_uv(hit),
+            Object::Disc(disc) => disc.with_uv(hit),
             Object::Quad(_) | Object::Mesh(..) | Object::Instance(_) | Object::Medium(_) => hit,
         }
     }
@@ -75,6 +80,7 @@ impl Object {
             Object::Sphere(sphere) => sphere.intersect(ray, t_max).is_some(),
             Object::Moving(moving) => moving.at(probe.time).intersect(ray, t_max).is_some(),
             Object::Quad(quad) => quad.intersect(ray, t_max).is_some(),
+            Object::Disc(disc) => disc.intersect(ray, t_max).is_some(),
             Object::Mesh(mesh, _) => mesh.occludes(ray, t_max, probe.isa),
             Object::Instance(instance) => {
                 let local = instance.transform.inverse_ray(ray);
@@ -90,6 +96,7 @@ impl Object {
             Object::Sphere(s) => out.push(s.material),
             Object::Moving(m) => out.push(m.material),
             Object::Quad(q) => out.push(q.material),
+            Object::Disc(d) => out.push(d.material),
             Object::Mesh(_, material) => out.push(*material),
             Object::Instance(instance) => instance.group.objects().iter().for_each(|o| o.materials(out)),
             Object::Medium(medium) => out.push(medium.material),
@@ -101,7 +108,9 @@ impl Object {
         match self {
             Object::Mesh(mesh, _) => mesh.has_normals(),
             Object::Instance(instance) => instance.group.objects().iter().any(Object::has_shading_normals),
-            Object::Sphere(_) | Object::Moving(_) | Object::Quad(_) | Object::Medium(_) => false,
+            Object::Sphere(_) | Object::Moving(_) | Object::Quad(_) | Object::Disc(_) | Object::Medium(_) => {
+                false
+            }
         }
     }
 
@@ -111,34 +120,7 @@ impl Object {
             Object::Moving(m) => (m.center0 != m.center1, false),
             Object::Medium(_) => (false, true),
             Object::Instance(instance) => instance.group.needs(),
-            Object::Sphere(_) | Object::Quad(_) | Object::Mesh(..) => (false, false),
-        }
-    }
-}
-
-impl Bounded for Object {
-    fn bounds(&self) -> Aabb {
-        match self {
-            Object::Sphere(s) => s.bounds(),
-            Object::Moving(m) => m.bounds(),
-            Object::Quad(q) => q.bounds(),
-            Object::Mesh(mesh, _) => mesh.bounds(),
-            Object::Instance(instance) => instance.bounds(),
-            Object::Medium(medium) => medium.boundary.bounds(),
-        }
-    }
-
-    fn centroid(&self) -> Vec3 {
-        match self {
-            Object::Sphere(s) => s.center,
-            Object::Moving(_)
-            | Object::Quad(_)
-            | Object::Mesh(..)
-            | Object::Instance(_)
-            | Object::Medium(_) => {
-                let b = self.bounds();
-                0.5 * (b.min + b.max)
-            }
+            Object::Sphere(_) | Object::Quad(_) | Object::Disc(_) | Object::Mesh(..) => (false, false),
         }
     }
 }
@@ -161,8 +143,8 @@ pub struct Group {
     objects: Vec<Object>,
     runs: Runs,
     bounds: Aabb,
-    /// Whether the closest hit gets its sphere's texture coordinates (an arc cosine and an
-    /// arc tangent): only where a material reads them ([`Group::keep_uv_for`]).
+    /// Whether the closest hit gets its sphere's or disc's texture coordinates (an arc tangent,
+    /// and a sphere's arc cosine): only where a material reads them ([`Group::keep_uv_for`]).
     uv: bool,
 }
 
@@ -188,7 +170,9 @@ impl Group {
                     Object::Quad(quad) => Kind::Quad(quad),
                     Object::Sphere(_) => Kind::Sphere,
                     Object::Medium(_) => Kind::Medium,
-                    Object::Moving(_) | Object::Mesh(..) | Object::Instance(_) => Kind::Other,
+                    Object::Moving(_) | Object::Disc(_) | Object::Mesh(..) | Object::Instance(_) => {
+                        Kind::Other
+                    }
                 },
             })
             .collect();
@@ -201,14 +185,15 @@ impl Group {
         Group { uv: self.uv, ..Group::with_tree(self.objects, tree) }
     }
 
-    /// Makes texture coordinates only for the spheres whose material `reads_uv`, here and in
-    /// the groups inside (a medium's boundary never: its hits are not shaded).
+    /// Makes texture coordinates only for the spheres and discs whose material `reads_uv`, here
+    /// and in the groups inside (a medium's boundary never: its hits are not shaded).
     pub fn keep_uv_for(&mut self, reads_uv: &dyn Fn(u32) -> bool) {
         self.uv = false;
         for object in &mut self.objects {
             match object {
                 Object::Sphere(sphere) => self.uv |= reads_uv(sphere.material),
                 Object::Moving(moving) => self.uv |= reads_uv(moving.material),
+                Object::Disc(disc) => self.uv |= reads_uv(disc.material),
                 Object::Instance(instance) => instance.group.keep_uv_for(reads_uv),
                 Object::Medium(medium) => medium.boundary.keep_uv_for(&|_| false),
                 Object::Quad(_) | Object::Mesh(..) => {}
