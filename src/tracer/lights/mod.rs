@@ -244,9 +244,10 @@ fn gather(
                 gather(instance.group.objects(), &instance.transform.then(place), materials, found, shaded)
             }
             // A dark quad or mesh gives off nothing, nor does a medium's boundary (it is not a
-            // surface a ray meets), nor a disc (the scene format refuses a glowing one). No `_` arm: a shape that emits must be gathered, as a light's
-            // density by area is found from its emission alone (`Lights::pdf_of_point`), and an
-            // emitter left out would be weighed as if it were drawn: too dark.
+            // surface a ray meets), nor a disc (the scene format refuses a glowing one). No `_`
+            // arm: a shape that emits must be gathered, as a light's density by area is found
+            // from its emission alone (`Lights::pdf_of_point`), and an emitter left out would
+            // be weighed as if it were drawn: too dark.
             Object::Quad(_) | Object::Disc(_) | Object::Mesh(..) | Object::Medium(_) => {}
         }
     }
