@@ -129,10 +129,10 @@ fn rays_at_the_seams_of_a_closed_triangle_mesh_never_slip_through() {
 }
 
 #[test]
-fn quads_and_triangles_1e4_from_the_origin_show_no_acne() {
+fn quads_triangles_and_discs_1e4_from_the_origin_show_no_acne() {
     within("2·10⁴ hits and their spawned rays, at every vector level, to be traced", move || {
         for (isa, placed) in Isa::available().into_iter().flat_map(|isa| [(isa, false), (isa, true)]) {
-            for flat in [Flat::Quad, Flat::Triangle] {
+            for flat in [Flat::Quad, Flat::Triangle, Flat::Disc] {
                 let a = stress_shapes::acne(flat, 1e4, placed, 20_000, isa);
                 assert_eq!(
                     a,

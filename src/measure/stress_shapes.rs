@@ -1,7 +1,8 @@
-//! Numerical stress cases for the second book's shapes (quads, triangle meshes, instances),
-//! counted ray by ray rather than judged from pixels: rays aimed exactly at the shared edges and
-//! vertices of closed solids must never slip through them ([`leaks`]); rays spawned off a quad
-//! or a triangle far from the origin must never meet it again, whichever side they leave by
+//! Numerical stress cases for the second book's shapes (quads, triangle meshes, discs,
+//! instances), counted ray by ray rather than judged from pixels: rays aimed exactly at the
+//! shared edges and vertices of closed solids must never slip through them ([`leaks`]); rays
+//! spawned off a quad, a triangle or a disc far from the origin must never meet it again,
+//! whichever side they leave by
 //! ([`acne`]); thin boxes met by grazing rays must be hit exactly where an f64 slab test says
 //! they are ([`thin`]). Each case also runs through an [`Instance`] that rotates and moves
 //! the shape. `cargo bench --bench stability` tabulates them ([`table`], `results/stability.md`);
@@ -14,6 +15,7 @@ use glam::DVec3;
 
 use crate::measure::solids::{cube, edges, icosphere};
 use crate::tracer::accel::isa::Isa;
+use crate::tracer::geometry::disc::Disc;
 use crate::tracer::geometry::quad::{Quad, box_faces};
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3};
@@ -44,13 +46,15 @@ pub enum Aim {
     Vertices,
 }
 
-/// A flat shape for [`acne`] and [`thin`].
+/// A flat shape for [`acne`] (and, as a box's faces, [`thin`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Flat {
     /// A parallelogram, or a box of six.
     Quad,
     /// A one-triangle mesh, or a box of twelve.
     Triangle,
+    /// A disc of radius 0.5 in the parallelogram's plane, at its centre ([`acne`] only).
+    Disc,
 }
 
 /// What [`acne`] counts.
@@ -243,7 +247,7 @@ fn hemisphere(n: DVec3, rng: &mut Rng) -> DVec3 {
     d
 }
 
-/// A tilted unit-sized quad or triangle `distance` from the origin along (1, 1, 1) (as
+/// A tilted unit-sized quad, triangle or disc `distance` from the origin along (1, 1, 1) (as
 /// its own coordinates, or through an instance that turns it and moves it there): rays hit it
 /// from both sides, and from each hit one ray is spawned back to the hit's side and one
 /// through it. None may meet the shape again.
@@ -258,26 +262,38 @@ pub fn acne(flat: Flat, distance: f64, placed: bool, rays: u64, isa: Isa) -> Acn
     let (placed, corner) = if placed { (Some(placement(far)), DVec3::ZERO) } else { (None, far) };
     let (q, u, v) =
         (from_dvec3(corner), from_dvec3(DVec3::new(1.0, 0.3, 0.2)), from_dvec3(DVec3::new(-0.2, 1.0, 0.5)));
+    let disc = Disc::new(q + 0.5 * (u + v), u.cross(v), 0.5, 0).expect("a valid disc");
     let object = match flat {
         Flat::Quad => Object::Quad(Quad::new(q, u, v, 0).expect("a valid quad")),
         Flat::Triangle => mesh((vec![to_dvec3(q), to_dvec3(q + u), to_dvec3(q + v)], vec![[0, 1, 2]])).0,
+        Flat::Disc => Object::Disc(disc),
     };
     let world = world(vec![object], placed);
-    // The edges as the shape has them (a triangle's corners `q + u` are rounded).
+    // The edges as the shape has them (a triangle's corners `q + u` are rounded); a disc's
+    // points are drawn about its centre, in a frame of its plane.
     let (q, u, v) = match flat {
         Flat::Quad => (to_dvec3(q), to_dvec3(u), to_dvec3(v)),
         Flat::Triangle => (to_dvec3(q), to_dvec3(q + u) - to_dvec3(q), to_dvec3(q + v) - to_dvec3(q)),
+        Flat::Disc => {
+            let (n, first) = (to_dvec3(disc.normal()), to_dvec3(u).normalize());
+            (to_dvec3(disc.center), first, n.cross(first))
+        }
     };
     let n = u.cross(v).normalize();
     let mut rng = Rng(0xAC7E + flat as u64 * 16 + distance.log10() as u64 + placed.is_some() as u64 * 256);
     let mut out = Acne::default();
     let probe = Probe { isa, ..Probe::default() };
     for _ in 0..rays {
-        // A point at least 0.02 (in units of the edges) inside the shape.
+        // A point at least 0.02 (in units of the edges, or of the diameter) inside the shape.
         let (a, b) = loop {
             let (a, b) = (rng.range(0.02, 0.98), rng.range(0.02, 0.98));
-            if flat == Flat::Quad || a + b <= 0.98 {
-                break (a, b);
+            let inside = match flat {
+                Flat::Quad => true,
+                Flat::Triangle => a + b <= 0.98,
+                Flat::Disc => (a - 0.5).hypot(b - 0.5) <= 0.48,
+            };
+            if inside {
+                break if flat == Flat::Disc { (a - 0.5, b - 0.5) } else { (a, b) };
             }
         };
         let p = q + a * u + b * v;
@@ -331,6 +347,7 @@ pub fn thin(flat: Flat, thickness: f64, placed: bool, rays: u64, isa: Isa) -> Th
             box_faces(from_dvec3(lo), from_dvec3(hi), 0).expect("a valid box").map(Object::Quad).to_vec()
         }
         Flat::Triangle => vec![mesh(cube(lo, hi)).0],
+        Flat::Disc => panic!("a box has no disc faces: thin takes a quad or a triangle"),
     };
     let transform = placement(NEAR);
     let placed = placed.then_some(transform);
@@ -387,7 +404,7 @@ pub fn table(rays: u64, isa: Isa) -> Vec<Row> {
                 rows.push(Row { case, rays, failures: n, detail: format!("{n} leaks") });
             }
         }
-        for (flat, name) in [(Flat::Quad, "quad"), (Flat::Triangle, "triangle")] {
+        for (flat, name) in [(Flat::Quad, "quad"), (Flat::Triangle, "triangle"), (Flat::Disc, "disc")] {
             for distance in [1e4, 1e5, 1e6] {
                 let a = acne(flat, distance, placed, rays, isa);
                 rows.push(Row {
