@@ -168,15 +168,6 @@ impl Looks<'_> {
         }
     }
 
-    /// Whether a material reference (checked) gives off light: a `diffuse_light`.
-    pub fn emits(&self, m: &MaterialRef) -> bool {
-        let spec = match m {
-            Ref::Inline(spec) => Some(spec),
-            Ref::Named(n) => self.materials.get(n),
-        };
-        matches!(spec, Some(MaterialSpec::DiffuseLight { .. }))
-    }
-
     /// Checks one material's numbers and its texture.
     pub fn check_material_spec(&self, m: &MaterialSpec) -> Result<(), String> {
         match m {

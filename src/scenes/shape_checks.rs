@@ -1,6 +1,6 @@
 //! The checks of a scene's shapes ([`Shapes::check`]): what TOML accepts but a renderer
 //! cannot use (numbers that are not finite, a zero radius, a degenerate quad, disc, triangle or
-//! box, a glowing disc), each refused with a message naming the shape. Apart from `world.rs`,
+//! box), each refused with a message naming the shape. Apart from `world.rs`,
 //! which holds the shapes and what they become, to keep each file one sitting's reading.
 
 use crate::scenes::checks::{REAL, check, colour, finite3, representable};
@@ -46,11 +46,6 @@ impl Shapes<'_> {
                 )
             })?;
             looks.check_material(&d.material).map_err(|e| format!("{name}: {e}"))?;
-            // Not a light (`gather` in `lights/mod.rs`): a glowing disc would be weighed as if it
-            // could be drawn, and come out too dark.
-            check(!looks.emits(&d.material), || {
-                format!("{name}: a disc cannot be a diffuse_light (not a light shape)")
-            })?;
         }
         for (i, b) in boxes.iter().enumerate() {
             let name = format!("{at}box #{}", i + 1);

@@ -1,7 +1,7 @@
 //! **Lights**: what a scene's lights are, in one room (pbrt's `lights.h`): what they give
 //! off, how a point is drawn on them and with what density, and where a light path starts.
 //! One light, whatever its shape, is a [`Light`]: an `enum` whose arms are the light shapes,
-//! each in a file of its own ([`quad`], [`triangle`], [`sphere`]); `gather` finds the lights
+//! each in a file of its own ([`quad`], [`disc`], [`triangle`], [`sphere`]); `gather` finds the lights
 //! among a scene's objects. [`power`] holds them all and chooses among them by power; a
 //! shadow ray's point is a [`sample`], a light path's start an [`emission`]. Beside them, the
 //! glass balls that light is aimed *through* ([`casters`]). How a path uses all this
@@ -22,6 +22,7 @@
 
 pub mod sample;
 pub mod quad;
+pub mod disc;
 pub mod triangle;
 pub mod sphere;
 pub mod power;
@@ -31,6 +32,7 @@ pub mod casters;
 use rand::Rng;
 
 use crate::tracer::geometry::moving::MovingSphere;
+use crate::tracer::lights::disc::DiscLight;
 use crate::tracer::lights::quad::QuadLight;
 use crate::tracer::lights::sample::{Chosen, LightPoint, LightSample};
 use crate::tracer::lights::sphere::SphereLight;
@@ -87,6 +89,8 @@ impl LightSampling {
 pub enum Light {
     /// A quad, drawn by area.
     Quad(QuadLight),
+    /// A disc, drawn by area.
+    Disc(DiscLight),
     /// A triangle (of a mesh too), drawn by area.
     Triangle(TriangleLight),
     /// A sphere, still or moving, drawn by the cone it fills.
@@ -100,6 +104,7 @@ impl Light {
     pub fn sample(&self, from: Vec3, time: Real, uv: [Real; 2], chosen: Chosen) -> Option<LightSample> {
         match self {
             Light::Quad(quad) => quad.sample(from, uv, chosen),
+            Light::Disc(disc) => disc.sample(from, uv, chosen),
             Light::Triangle(triangle) => triangle.sample(from, uv, chosen),
             Light::Sphere(sphere) => sphere.sample(from, time, uv, chosen),
         }
@@ -112,6 +117,7 @@ impl Light {
     pub fn density_along(&self, ray: &Ray, time: Real) -> Real {
         match self {
             Light::Quad(quad) => quad.density_along(ray),
+            Light::Disc(disc) => disc.density_along(ray),
             Light::Triangle(triangle) => triangle.density_along(ray),
             Light::Sphere(sphere) => sphere.density_along(ray, time),
         }
@@ -122,7 +128,7 @@ impl Light {
     #[inline]
     pub fn by_area(&self) -> bool {
         match self {
-            Light::Quad(_) | Light::Triangle(_) => true,
+            Light::Quad(_) | Light::Disc(_) | Light::Triangle(_) => true,
             Light::Sphere(_) => false,
         }
     }
@@ -133,7 +139,7 @@ impl Light {
     pub fn density_at(&self, from: Vec3, point: Vec3, time: Real, chance: Real) -> Option<Real> {
         match self {
             Light::Sphere(sphere) => sphere.density_at(from, point, time, chance),
-            Light::Quad(_) | Light::Triangle(_) => None,
+            Light::Quad(_) | Light::Disc(_) | Light::Triangle(_) => None,
         }
     }
 
@@ -143,7 +149,7 @@ impl Light {
     pub fn face_normal(&self, ray: &Ray, distance: Real) -> Option<Vec3> {
         match self {
             Light::Triangle(triangle) => triangle.normal_at(ray, distance),
-            Light::Quad(_) | Light::Sphere(_) => None,
+            Light::Quad(_) | Light::Disc(_) | Light::Sphere(_) => None,
         }
     }
 
@@ -151,16 +157,18 @@ impl Light {
     pub fn emission<R: Rng + ?Sized>(&self, time: Real, rng: &mut R) -> Option<LightPoint> {
         match self {
             Light::Quad(quad) => Some(quad.emission(rng)),
+            Light::Disc(disc) => Some(disc.emission(rng)),
             Light::Triangle(triangle) => Some(triangle.emission(rng)),
             Light::Sphere(sphere) => sphere.emission(time, rng),
         }
     }
 
     /// The size a ray leaving it is offset by, beside its point's magnitude: a quad's (its
-    /// area's square root); 0 for the other shapes.
+    /// area's square root), a disc's (its radius); 0 for the other shapes.
     pub fn size(&self) -> Real {
         match self {
             Light::Quad(quad) => quad.size(),
+            Light::Disc(disc) => disc.size(),
             Light::Triangle(_) | Light::Sphere(_) => 0.0,
         }
     }
@@ -169,6 +177,7 @@ impl Light {
     pub fn bounds(&self) -> Aabb {
         match self {
             Light::Quad(quad) => quad.bounds(),
+            Light::Disc(disc) => disc.bounds(),
             Light::Triangle(triangle) => triangle.bounds(),
             Light::Sphere(sphere) => sphere.bounds(),
         }
@@ -232,6 +241,12 @@ fn gather(
                     found.push(Found { light: Light::Quad(light), power, emit: emit(quad.material) });
                 }
             }
+            Object::Disc(disc) if glow(disc.material) > 0.0 => {
+                if let Some(light) = DiscLight::placed(disc, place) {
+                    let power = light.power(glow(disc.material));
+                    found.push(Found { light: Light::Disc(light), power, emit: emit(disc.material) });
+                }
+            }
             Object::Mesh(mesh, material) if glow(*material) > 0.0 => {
                 *shaded |= mesh.has_normals();
                 for k in 0..mesh.triangle_count() {
@@ -243,11 +258,10 @@ fn gather(
             Object::Instance(instance) => {
                 gather(instance.group.objects(), &instance.transform.then(place), materials, found, shaded)
             }
-            // A dark quad or mesh gives off nothing, nor does a medium's boundary (it is not a
-            // surface a ray meets), nor a disc (the scene format refuses a glowing one). No `_`
-            // arm: a shape that emits must be gathered, as a light's density by area is found
-            // from its emission alone (`Lights::pdf_of_point`), and an emitter left out would
-            // be weighed as if it were drawn: too dark.
+            // A dark quad, disc or mesh gives off nothing, nor does a medium's boundary (it is
+            // not a surface a ray meets). No `_` arm: a shape that emits must be gathered, as a
+            // light's density by area is found from its emission alone (`Lights::pdf_of_point`),
+            // and an emitter left out would be weighed as if it were drawn: too dark.
             Object::Quad(_) | Object::Disc(_) | Object::Mesh(..) | Object::Medium(_) => {}
         }
     }

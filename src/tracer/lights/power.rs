@@ -1,13 +1,13 @@
 //! The scene's lights, all together: which one a sample is drawn on, and the density of a
 //! point or a direction over all of them (pbrt's `PowerLightSampler`, and its `PDF_Li` summed
-//! over the lights). Every emitting quad, triangle (of a mesh too) and sphere (a moving one
-//! where it is at the path's time), at the top level or inside instances, is one [`Light`].
+//! over the lights). Every emitting quad, disc, triangle (of a mesh too) and sphere (a moving
+//! one where it is at the path's time), at the top level or inside instances, is one [`Light`].
 //!
 //! - **Choice**: a light is chosen in proportion to its power (the luminance of its `emit`
 //!   times its area), so a big bright lamp gets most of the shadow rays. Every flat light is
 //!   then drawn uniformly by area, so a point on any of them has the same density per unit
 //!   area, `luminance(emit) / total power`: a hit knows it without knowing which light it is.
-//! - **A point on it**: the light's own file says how (a quad or triangle uniformly by area,
+//! - **A point on it**: the light's own file says how (a quad, disc or triangle by area,
 //!   density `d²/(cos θ·A)` per solid angle; a sphere uniformly over the cone it fills from
 //!   the point).
 //! - **Densities**: a sample carries the exact density with which it was drawn, which the
@@ -67,7 +67,7 @@ pub struct Lights {
 }
 
 impl Lights {
-    /// The emitting quads, triangles and spheres among `objects` and inside their instances
+    /// The emitting quads, discs, triangles and spheres among `objects` and inside their instances
     /// (their materials in `materials`), placed in the world.
     ///
     /// ```
