@@ -12,8 +12,9 @@
 //! A new light shape is two files: its own here (how a point is drawn on it and with what
 //! density, where a light path starts on it, its box), and this one: its `mod` line and its
 //! arm of [`Light`] (with its line in each of `Light`'s matches, which the compiler asks for,
-//! and in `gather`). The estimators ask every light through `Light` and [`power::Lights`],
-//! and need no change.
+//! and in `gather`; `by_area`, `density_at`, `face_normal` and `size` compile whatever they
+//! are told, so answer them as [`disc`] does). The estimators ask every light through `Light`
+//! and [`power::Lights`], and need no change.
 //!
 //! The `--light-sampling` setting, [`LightSampling`], is declared here too, below both the
 //! estimators and bidirectional path tracing, so that both may name it.
