@@ -37,7 +37,7 @@ pub type Tree = (Bvh8, Vec<Range<usize>>);
 const LEAF_OBJECTS: usize = LANES / 2;
 
 /// Orders `objects` as the leaves of an eight-wide tree over their boxes (a leaf, one run, of
-/// up to [`LEAF_OBJECTS`] each), and gives that tree if there are more than
+/// up to `LEAF_OBJECTS` each), and gives that tree if there are more than
 /// [`FLAT_MAX_OBJECTS`] of them.
 pub fn ordered<T: Bounded>(objects: &mut [T]) -> Option<Tree> {
     if objects.is_empty() {
