@@ -8,7 +8,6 @@ mod rooms;
 use deadline::{raypool, scratch, within};
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
-use raypool::files::image::Image;
 use raypool::scenes::builtin::builtin_scene;
 use raypool::schedule::modes::Schedule;
 use raypool::tracer::camera::{Camera, CameraSettings};
@@ -17,11 +16,7 @@ use raypool::tracer::math::real::{Real, to_f64};
 use raypool::tracer::render::RenderSettings;
 use raypool::tracer::sampling::sampler::Sampler;
 use raypool::tracer::sampling::warp::uniform;
-use raypool::tracer::scene::Scene;
-use rooms::{
-    CAMERA, assert_within_five_errors, inward_cube, lit_room, mean_and_error, parse, quadrant_sums,
-    render_frame,
-};
+use rooms::{CAMERA, assert_within_five_errors, inward_cube, lit_room, parse, quadrant_means, render_frame};
 
 fn builtin(name: &str) -> String {
     builtin_scene(name, 0).unwrap().to_toml()
@@ -62,21 +57,6 @@ fn bdpt_gives_the_same_bits_under_every_schedule_thread_count_and_sampler() {
             }
         }
     });
-}
-
-/// The mean of each quadrant and channel of `scene` under `light_sampling` over 8 seeds, with
-/// its standard error (from the 8, not guessed).
-fn quadrant_means(scene: &Scene, light_sampling: LightSampling, spp: u32) -> Vec<(f64, f64)> {
-    let side = 16;
-    let runs: Vec<Vec<f64>> = (1..=8)
-        .map(|seed| {
-            let settings =
-                RenderSettings { width: side, height: side, spp, seed, light_sampling, ..Default::default() };
-            let image: Image = render_frame(scene, settings, Schedule::Stealing, 2).image;
-            quadrant_sums(&image.pixels, side)
-        })
-        .collect();
-    mean_and_error(&runs)
 }
 
 #[test]

@@ -9,21 +9,16 @@ mod rooms;
 use deadline::within;
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
-use raypool::schedule::modes::Schedule;
 use raypool::tracer::geometry::disc::Disc;
 use raypool::tracer::lights::LightSampling;
 use raypool::tracer::lights::power::Lights;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::math::transform::Transform;
-use raypool::tracer::render::RenderSettings;
 use raypool::tracer::sampling::warp::random_unit_vector;
-use raypool::tracer::scene::Scene;
 use raypool::tracer::shading::material::Material;
 use raypool::tracer::world::object::{Group, Instance, Object, Probe};
-use rooms::{
-    CAMERA, assert_within_five_errors, inward_cube, mean_and_error, parse, quadrant_sums, render_frame,
-};
+use rooms::{CAMERA, assert_within_five_errors, inward_cube, parse, quadrant_means};
 
 /// Three discs about the origin, each on its axis seen from there: `(distance, radius, luminance
 /// of its emission)`, in order: above, facing down (grey, 4); along +x, facing the origin, placed
@@ -168,26 +163,6 @@ fn disc_room() -> String {
     )
 }
 
-/// The mean of each quadrant and channel of `scene` under `light_sampling` over 8 seeds, with
-/// its standard error from the 8.
-fn quadrant_means(scene: &Scene, light_sampling: LightSampling) -> Vec<(f64, f64)> {
-    let side = 16;
-    let runs: Vec<Vec<f64>> = (1..=8)
-        .map(|seed| {
-            let settings = RenderSettings {
-                width: side,
-                height: side,
-                spp: 256,
-                seed,
-                light_sampling,
-                ..Default::default()
-            };
-            quadrant_sums(&render_frame(scene, settings, Schedule::Stealing, 2).image.pixels, side)
-        })
-        .collect();
-    mean_and_error(&runs)
-}
-
 /// Each quadrant's mean colour and the whole image's under `mixture`, `mis` and `bdpt` against
 /// `bsdf`'s (which draws no light, so has no disc density to get wrong), within 5 combined
 /// standard errors from 8 renders of each (256 spp, 16 × 16). The smallest bias caught
@@ -198,10 +173,10 @@ fn a_room_lit_by_discs_renders_the_same_image_under_every_light_sampling() {
     within("the disc room under four light samplings", || {
         let scene = parse(&disc_room());
         assert_eq!(scene.lights().len(), 2, "both discs are lights");
-        let reference = quadrant_means(&scene, LightSampling::Bsdf);
+        let reference = quadrant_means(&scene, LightSampling::Bsdf, 256);
         let whole = |means: &[(f64, f64)]| means[13];
         for light_sampling in [LightSampling::Mixture, LightSampling::Mis, LightSampling::Bdpt] {
-            let other = quadrant_means(&scene, light_sampling);
+            let other = quadrant_means(&scene, light_sampling, 256);
             let ((a, sa), (b, sb)) = (whole(&reference), whole(&other));
             eprintln!(
                 "{}: image green {b:.5} vs bsdf {a:.5}: bias {:+.2}% ± {:.2}%",
