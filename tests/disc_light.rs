@@ -9,16 +9,18 @@ mod rooms;
 use deadline::within;
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
+use raypool::schedule::modes::Schedule;
 use raypool::tracer::geometry::disc::Disc;
 use raypool::tracer::lights::LightSampling;
 use raypool::tracer::lights::power::Lights;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3};
 use raypool::tracer::math::transform::Transform;
+use raypool::tracer::render::RenderSettings;
 use raypool::tracer::sampling::warp::random_unit_vector;
 use raypool::tracer::shading::material::Material;
 use raypool::tracer::world::object::{Group, Instance, Object, Probe};
-use rooms::{CAMERA, assert_within_five_errors, inward_cube, parse, quadrant_means};
+use rooms::{CAMERA, assert_within_five_errors, inward_cube, parse, quadrant_means, render_frame};
 
 /// Three discs about the origin, each on its axis seen from there: `(distance, radius, luminance
 /// of its emission)`, in order: above, facing down (grey, 4); along +x, facing the origin, placed
@@ -185,6 +187,37 @@ fn a_room_lit_by_discs_renders_the_same_image_under_every_light_sampling() {
                 100.0 * sa.hypot(sb) / a
             );
             assert_within_five_errors("disc room", ("bsdf", &reference), (light_sampling.name(), &other));
+        }
+    });
+}
+
+/// The disc room renders the same bits under every schedule and thread count, under `mis`
+/// (shadow rays to the discs) and `bdpt` (light paths from them, splatted to other pixels).
+#[test]
+fn the_disc_room_is_the_same_image_under_every_schedule() {
+    within("the disc room under every schedule", || {
+        let scene = parse(&disc_room());
+        for light_sampling in [LightSampling::Mis, LightSampling::Bdpt] {
+            let settings = RenderSettings {
+                width: 24,
+                height: 24,
+                spp: 4,
+                seed: 5,
+                light_sampling,
+                ..Default::default()
+            };
+            let serial = render_frame(&scene, settings, Schedule::Serial, 1);
+            assert!(serial.image.pixels.iter().any(|p| p.max_element() > 0.0), "the discs light the room");
+            for schedule in Schedule::ALL {
+                for threads in [2, 5] {
+                    let other = render_frame(&scene, settings, schedule, threads);
+                    assert_eq!(other.rays, serial.rays, "{light_sampling:?}: {schedule:?} × {threads}: rays");
+                    assert!(
+                        other.image == serial.image,
+                        "{light_sampling:?}: {schedule:?} × {threads} changed the image"
+                    );
+                }
+            }
         }
     });
 }
