@@ -22,7 +22,7 @@ use raypool::tracer::sampling::sobol::SobolStreams;
 use raypool::tracer::sampling::warp::{random_unit_vector, uniform};
 use raypool::tracer::scene::Scene;
 use raypool::tracer::tile::Tile;
-use rooms::{CAMERA, inward_cube, parse, render_frame};
+use rooms::{CAMERA, assert_every_schedule_renders_alike, inward_cube, parse, render_frame};
 
 fn cornell() -> Scene {
     parse(&builtin_scene("cornell", 0).unwrap().to_toml())
@@ -213,20 +213,7 @@ fn manifold_samples_keep_the_image_the_same_bits_under_every_schedule_and_thread
             [(&schlick, Sampler::Sobol), (&schlick, Sampler::Independent), (&exact, Sampler::Sobol)]
         {
             let settings = RenderSettings { sampler, ..settings };
-            let serial = render_frame(scene, settings, Schedule::Serial, 1);
-            for schedule in Schedule::ALL {
-                for threads in [2, 5] {
-                    let other = render_frame(scene, settings, schedule, threads);
-                    assert_eq!(
-                        other.rays, serial.rays,
-                        "{sampler:?}: {schedule:?} × {threads} cast other rays"
-                    );
-                    assert!(
-                        other.image == serial.image,
-                        "{sampler:?}: {schedule:?} × {threads} changed the image"
-                    );
-                }
-            }
+            assert_every_schedule_renders_alike(scene, settings, sampler.name());
         }
     });
 }

@@ -25,6 +25,21 @@ pub fn render_frame(scene: &Scene, settings: RenderSettings, schedule: Schedule,
     modes::render(&frame, &schedule)
 }
 
+/// `scene` under `settings` rendered serially on one thread, then under every schedule on 2
+/// and on 5 threads: each must cast the same rays and make the same image (`what` names the
+/// case when one does not). Returns the serial render.
+pub fn assert_every_schedule_renders_alike(scene: &Scene, settings: RenderSettings, what: &str) -> Rendered {
+    let serial = render_frame(scene, settings, Schedule::Serial, 1);
+    for schedule in Schedule::ALL {
+        for threads in [2, 5] {
+            let other = render_frame(scene, settings, schedule, threads);
+            assert_eq!(other.rays, serial.rays, "{what}: {schedule:?} × {threads} cast other rays");
+            assert!(other.image == serial.image, "{what}: {schedule:?} × {threads} changed the image");
+        }
+    }
+    serial
+}
+
 /// A camera at the origin looking down −z with a 60° view, its focus 1 away.
 pub const CAMERA: &str = r#"
 [camera]
