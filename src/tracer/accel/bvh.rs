@@ -2,7 +2,7 @@
 //! ray's path instead of all ~480 of the book's final scene (`results/perf.md`).
 //!
 //! - **Build**: binned surface-area heuristic (SAH). At each node the sphere centres are
-//!   sorted into 16 bins along the widest axis; the split between bins that minimises
+//!   sorted into 32 bins along each axis; the split between bins, on any axis, that minimises
 //!   `area(left)·count(left) + area(right)·count(right)` wins, unless a leaf is cheaper.
 //!   A ray's chance of hitting a box is roughly proportional to its surface area, so this
 //!   minimises the expected number of sphere tests.
@@ -34,7 +34,7 @@ const LARGEST_LEAF: usize = 8;
 const SAH_DEPTH: usize = 32;
 /// Traversal stack entries: one per level at most.
 const STACK: usize = 64;
-const BINS: usize = 16;
+const BINS: usize = 32;
 
 /// Half the surface area of the box around `items` (each box padded as its shape pads it):
 /// how likely a ray is to enter it. The scene uses it to find huge spheres.
@@ -222,40 +222,37 @@ fn choose_split<T: Bounded>(spheres: &mut [T], bounds: &Aabb, leaf: usize) -> Op
     }
     let centroids = spheres.iter().fold(Aabb::EMPTY, |b, s| b.grow(s.centroid()));
     let extent = centroids.max - centroids.min;
-    let axis = if extent.x >= extent.y && extent.x >= extent.z {
-        0
-    } else if extent.y >= extent.z {
-        1
-    } else {
-        2
-    };
-    let (low, width) = (centroids.min[axis], extent[axis]);
-    if width <= 0.0 {
+    if extent.max_element() <= 0.0 {
         // Every centre coincides: nothing separates them. Fine unless the leaf is huge.
-        return (n > MAX_LEAF * 4).then_some((axis, n / 2));
+        return (n > MAX_LEAF * 4).then_some((0, n / 2));
     }
-    let bin_of = |s: &T| (((s.centroid()[axis] - low) / width * BINS as Real) as usize).min(BINS - 1);
-    let mut bins = [(Aabb::EMPTY, 0usize); BINS];
-    for s in spheres.iter() {
-        let b = &mut bins[bin_of(s)];
-        *b = (b.0.union(s.bounds()), b.1 + 1);
-    }
-    // Cost of splitting after bin i, from a right-to-left then a left-to-right sweep.
-    let mut right_cost = [0.0; BINS];
-    let (mut acc, mut count) = (Aabb::EMPTY, 0);
-    for i in (1..BINS).rev() {
-        acc = acc.union(bins[i].0);
-        count += bins[i].1;
-        right_cost[i - 1] = acc.half_area() * count as Real;
-    }
-    let (mut acc, mut count) = (Aabb::EMPTY, 0);
-    let mut best = (Real::INFINITY, 0);
-    for i in 0..BINS - 1 {
-        acc = acc.union(bins[i].0);
-        count += bins[i].1;
-        let cost = acc.half_area() * count as Real + right_cost[i];
-        if count > 0 && count < n && cost < best.0 {
-            best = (cost, i);
+    let bin_of = |axis: usize, s: &T| {
+        (((s.centroid()[axis] - centroids.min[axis]) / extent[axis] * BINS as Real) as usize).min(BINS - 1)
+    };
+    // (cost, axis, last bin on the left), over every axis the centres spread along.
+    let mut best = (Real::INFINITY, 0, 0);
+    for axis in (0..3).filter(|&axis| extent[axis] > 0.0) {
+        let mut bins = [(Aabb::EMPTY, 0usize); BINS];
+        for s in spheres.iter() {
+            let b = &mut bins[bin_of(axis, s)];
+            *b = (b.0.union(s.bounds()), b.1 + 1);
+        }
+        // Cost of splitting after bin i, from a right-to-left then a left-to-right sweep.
+        let mut right_cost = [0.0; BINS];
+        let (mut acc, mut count) = (Aabb::EMPTY, 0);
+        for i in (1..BINS).rev() {
+            acc = acc.union(bins[i].0);
+            count += bins[i].1;
+            right_cost[i - 1] = acc.half_area() * count as Real;
+        }
+        let (mut acc, mut count) = (Aabb::EMPTY, 0);
+        for i in 0..BINS - 1 {
+            acc = acc.union(bins[i].0);
+            count += bins[i].1;
+            let cost = acc.half_area() * count as Real + right_cost[i];
+            if count > 0 && count < n && cost < best.0 {
+                best = (cost, axis, i);
+            }
         }
     }
     // Relative to testing all n spheres in a leaf, with a box test costing about one sphere.
@@ -269,7 +266,8 @@ fn choose_split<T: Bounded>(spheres: &mut [T], bounds: &Aabb, leaf: usize) -> Op
     if best.0.is_infinite() || (split_cost >= leaf_cost && n <= MAX_LEAF.max(leaf)) {
         return None;
     }
-    let mid = partition(spheres, |s| bin_of(s) <= best.1);
+    let (_, axis, last) = best;
+    let mid = partition(spheres, |s| bin_of(axis, s) <= last);
     Some((axis, mid))
 }
 

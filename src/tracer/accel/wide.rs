@@ -219,7 +219,7 @@ impl WideBvh {
                 leaf(leaf_spheres(child), closest);
             } else {
                 let node = &self.nodes[child as usize];
-                let (near, mask) = slab.enter(&node.corner, closest.t);
+                let (near, mask) = slab.enter(&node.corner, reach(closest));
                 // Children hit, sorted farthest first (insertion sort of at most four). A
                 // branch per lane: measured faster than a branch-free sorting network, than
                 // looping over the mask's set bits and than special-casing a single hit
@@ -249,7 +249,7 @@ impl WideBvh {
                     continue;
                 }
             }
-            let Some(next) = next_waiting(&mut waiting, closest.t) else { return };
+            let Some(next) = next_waiting(&mut waiting, reach(closest)) else { return };
             child = next;
         }
     }
@@ -325,6 +325,15 @@ pub(super) struct Slab {
     pub(super) inv_exit: [Real; 3],
     /// Per axis, 0 when the ray travels towards +axis (it enters at the lower corner), else 1.
     pub(super) near_corner: [usize; 3],
+}
+
+/// How far along the ray a box may be entered and still hold the closest hit so far, or a
+/// hit tied with it that a lower index would win: a computed entry distance is at most
+/// [`SLAB_ROUNDING`] times the exact one (three roundings: the reciprocal, the subtraction,
+/// the product), so a box entered exactly at the hit's distance may read slightly beyond it.
+#[inline(always)]
+pub(super) fn reach(closest: &Closest) -> Real {
+    closest.t * SLAB_ROUNDING
 }
 
 /// pbrt's bound on the slab test's own rounding: the exit distance is scaled up by

@@ -26,7 +26,7 @@ use std::ops::Range;
 use arrayvec::ArrayVec;
 
 use crate::tracer::accel::bvh::Bvh;
-use crate::tracer::accel::wide::{Slab, Waiting, next_waiting};
+use crate::tracer::accel::wide::{Slab, Waiting, next_waiting, reach};
 use crate::tracer::geometry::hit::Closest;
 use crate::tracer::math::lanes::Lanes8;
 use crate::tracer::math::ray::Ray;
@@ -170,7 +170,7 @@ impl Bvh8 {
                 leaf((child & !LEAF) as usize, closest);
             } else {
                 let node = &self.nodes[child as usize];
-                let (near, mut mask) = slab.enter(lanes, node, closest.t);
+                let (near, mut mask) = slab.enter(lanes, node, reach(closest));
                 if mask != 0 {
                     let first = mask.trailing_zeros() as usize;
                     mask &= mask - 1;
@@ -191,7 +191,7 @@ impl Bvh8 {
                     continue;
                 }
             }
-            let Some(next) = next_waiting(&mut waiting, closest.t) else { return };
+            let Some(next) = next_waiting(&mut waiting, reach(closest)) else { return };
             child = next;
         }
     }
