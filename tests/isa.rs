@@ -117,3 +117,32 @@ fn raypool_isa_chooses_a_level_and_refuses_what_it_cannot_run() {
         assert!(refused.stdout.is_empty(), "no image is written");
     }
 }
+
+/// A code-generation guard, not a timing: no function of the built `raypool` uses a 512-bit
+/// register (`zmm`). The avx512 level keeps eight lanes, in 256-bit registers; a lone 512-bit
+/// instruction (once, the compiler's one masked load of a quad hit's two coordinates, a ray)
+/// slowed every later instruction on an Intel Xeon, `cornell` by about 17%
+/// (`results/simd.md`, fifth pass). Third-party code that uses them on purpose, outside the
+/// render loop, is listed with where it runs. Needs binutils' `objdump`; without it, skipped.
+#[test]
+fn no_function_of_ours_uses_512_bit_registers() {
+    // crc32fast: the checksums of a PNG being written, once per image.
+    const THEIRS: [&str; 1] = ["<crc32fast::"];
+    let mut command = Command::new("objdump");
+    command.args(["-d", "--no-show-raw-insn", "-C", env!("CARGO_BIN_EXE_raypool")]);
+    let listing = match command.output() {
+        Ok(output) if output.status.success() => output.stdout,
+        _ => return eprintln!("skipped: no objdump (Debian's binutils) to read the binary with"),
+    };
+    let listing = String::from_utf8_lossy(&listing);
+    let mut function = "";
+    let mut offenders = std::collections::BTreeSet::new();
+    for line in listing.lines() {
+        if line.ends_with(">:") {
+            function = line;
+        } else if line.contains("zmm") && !THEIRS.iter().any(|theirs| function.contains(theirs)) {
+            offenders.insert(function);
+        }
+    }
+    assert!(offenders.is_empty(), "512-bit registers used in {offenders:#?}");
+}

@@ -38,10 +38,13 @@ pub struct QuadPacket {
 /// hit), and a mask with bit `k` set where lane `k`'s quad is hit in `(0, t_max)`.
 #[derive(Clone, Copy, Debug)]
 pub struct QuadHits {
-    /// Distance along the ray.
-    pub t: Wide,
     /// The hit's coordinate along the quad's first edge.
     pub alpha: Wide,
+    /// Distance along the ray: between `alpha` and `beta`, so that the winning lane's two
+    /// coordinates are not 32 bytes apart, which at the avx512 level the compiler read with
+    /// one masked 512-bit load, and one such instruction a ray slowed every later instruction
+    /// on an Intel Xeon (`results/simd.md`, fifth pass).
+    pub t: Wide,
     /// Along its second edge.
     pub beta: Wide,
     /// Bit `k`: lane `k` is hit.
