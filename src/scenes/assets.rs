@@ -320,7 +320,13 @@ fn load_image(path: &Path) -> Result<ImageTexture, String> {
         let c = f64::from(c) / 255.0;
         (if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }) as Real
     };
-    let pixels = decoded.pixels().map(|p| Vec3::new(linear(p[0]), linear(p[1]), linear(p[2]))).collect();
+    // A byte has 256 values: each converted once (a power per channel of a large map was a
+    // noticeable part of a short render's time).
+    let table: [Real; 256] = std::array::from_fn(|c| linear(c as u8));
+    let pixels = decoded
+        .pixels()
+        .map(|p| Vec3::new(table[p[0] as usize], table[p[1] as usize], table[p[2] as usize]))
+        .collect();
     Ok(ImageTexture { width, height, pixels })
 }
 
