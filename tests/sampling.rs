@@ -11,7 +11,7 @@
 mod chi_squared;
 mod rooms;
 
-use chi_squared::{Cone, assert_fits, front_hit};
+use chi_squared::{assert_fits, front_hit};
 use rand::SeedableRng;
 use rand::rngs::SmallRng;
 use raypool::scenes::format::SceneFile;
@@ -22,40 +22,19 @@ use raypool::tracer::shading::material::Material;
 use raypool::tracer::shading::texture::Textures;
 use rooms::lit_room;
 
-/// Bins in `cos θ` (about +z) and in `φ`: equal solid angle each.
-const Z_BINS: usize = 16;
-const PHI_BINS: usize = 32;
+/// Draws for the lamp's points.
 const SAMPLES: usize = 200_000;
 
 /// The significance each test rejects at: 1%, split over the seven checks (Bonferroni).
 const ALPHA: f64 = 0.01 / 7.0;
 
-/// Draws `SAMPLES` directions from `draw` and checks their counts against `pdf`; then checks
-/// that the same counts reject `pdf` tilted by ±5% along x.
+/// [`chi_squared::assert_draws_follow`] at this file's significance.
 fn assert_draws_follow(
     name: &str,
-    mut draw: impl FnMut(&mut SmallRng) -> Option<Vec3>,
+    draw: impl FnMut(&mut SmallRng) -> Option<Vec3>,
     pdf: &dyn Fn(Vec3) -> f64,
 ) {
-    let mut rng = SmallRng::seed_from_u64(name.len() as u64 * 7919);
-    let sphere = Cone::sphere(Z_BINS, PHI_BINS);
-    let mut observed = vec![0usize; sphere.len()];
-    for _ in 0..SAMPLES {
-        if let Some(d) = draw(&mut rng) {
-            observed[sphere.bin(d).expect("the whole sphere")] += 1;
-        }
-    }
-    // Shape, not total: the counts are compared with the density scaled to the draws made
-    // (that `Lights::pdf` integrates to 1 is `tests/lights.rs`'s).
-    let drawn = observed.iter().sum::<usize>() as f64;
-    let scaled = |counts: Vec<f64>| {
-        let total = counts.iter().sum::<f64>();
-        counts.into_iter().map(|c| c * drawn / total).collect::<Vec<_>>()
-    };
-    let tilted = |d: Vec3| pdf(d) * (1.0 + 0.05 * sphere.side(d));
-    let expected = scaled(sphere.expected(pdf, SAMPLES, 64));
-    let wrong = scaled(sphere.expected(&tilted, SAMPLES, 64));
-    assert_fits(name, &observed, (&expected, &wrong), 1, ALPHA);
+    chi_squared::assert_draws_follow(name, draw, pdf, ALPHA);
 }
 
 #[test]

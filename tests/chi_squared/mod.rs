@@ -5,6 +5,8 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
+use rand::SeedableRng;
+use rand::rngs::SmallRng;
 use raypool::tracer::geometry::hit::Hit;
 use raypool::tracer::math::real::{Real, Vec3};
 
@@ -172,4 +174,40 @@ fn erfc(x: f64) -> f64 {
 /// A hit on the front of a surface at `point`, facing `normal`: where a bounce is drawn from.
 pub fn front_hit(point: Vec3, normal: Vec3) -> Hit {
     Hit { t: 1.0, point, normal, front_face: true, material: 0, offset: 0.0, lift: 0.0, u: 0.0, v: 0.0 }
+}
+
+/// Bins of [`assert_draws_follow`] in `cos θ` (about +z) and in `φ`: equal solid angle each.
+const Z_BINS: usize = 16;
+const PHI_BINS: usize = 32;
+/// Directions [`assert_draws_follow`] draws.
+const DRAWS: usize = 200_000;
+
+/// Draws `DRAWS` directions from `draw` (seeded from `name`) and checks their counts in
+/// 16 × 32 bins of the sphere against `pdf`, and that the same counts reject `pdf` tilted by
+/// ±5% along x, each at significance `alpha` ([`assert_fits`]).
+pub fn assert_draws_follow(
+    name: &str,
+    mut draw: impl FnMut(&mut SmallRng) -> Option<Vec3>,
+    pdf: &dyn Fn(Vec3) -> f64,
+    alpha: f64,
+) {
+    let mut rng = SmallRng::seed_from_u64(name.len() as u64 * 7919);
+    let sphere = Cone::sphere(Z_BINS, PHI_BINS);
+    let mut observed = vec![0usize; sphere.len()];
+    for _ in 0..DRAWS {
+        if let Some(d) = draw(&mut rng) {
+            observed[sphere.bin(d).expect("the whole sphere")] += 1;
+        }
+    }
+    // Shape, not total: the counts are compared with the density scaled to the draws made
+    // (that `Lights::pdf` integrates to 1 is `tests/lights.rs`'s).
+    let drawn = observed.iter().sum::<usize>() as f64;
+    let scaled = |counts: Vec<f64>| {
+        let total = counts.iter().sum::<f64>();
+        counts.into_iter().map(|c| c * drawn / total).collect::<Vec<_>>()
+    };
+    let tilted = |d: Vec3| pdf(d) * (1.0 + 0.05 * sphere.side(d));
+    let expected = scaled(sphere.expected(pdf, DRAWS, 64));
+    let wrong = scaled(sphere.expected(&tilted, DRAWS, 64));
+    assert_fits(name, &observed, (&expected, &wrong), 1, alpha);
 }
