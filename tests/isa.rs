@@ -124,6 +124,9 @@ fn raypool_isa_chooses_a_level_and_refuses_what_it_cannot_run() {
 /// slowed every later instruction on an Intel Xeon, `cornell` by about 17%
 /// (`results/simd.md`, fifth pass). Third-party code that uses them on purpose, outside the
 /// render loop, is listed with where it runs. Needs binutils' `objdump`; without it, skipped.
+/// Not in the `f64` build: made to compare numerics, not speed, it moves its eight f64 lanes
+/// (64 bytes) in whatever registers the compiler picks.
+#[cfg(not(feature = "f64"))]
 #[test]
 fn no_function_of_ours_uses_512_bit_registers() {
     // crc32fast: the checksums of a PNG being written, once per image.
