@@ -110,6 +110,8 @@ done
 
 commit=$(git -C "$here" rev-parse --short HEAD)
 dirty=$(git -C "$here" status --porcelain --untracked-files=no | grep -q . && echo " (with uncommitted changes)" || true)
+# A binary named by RAYPOOL may be another commit's: say which file ran, not this checkout's commit.
+[[ -n ${RAYPOOL:-} ]] && { commit="binary $RAYPOOL (not necessarily this checkout's $commit)"; dirty=""; }
 cat <<EOF
 Command: \`benches/books/run.sh $pairs ${scenes[*]}\`; raypool $commit$dirty, the books at
 $(git -C "$src" rev-parse --short HEAD) ($(git -C "$src" log -1 --format=%cs)), $(g++ --version | head -1), $(date -u +%Y-%m-%d);
