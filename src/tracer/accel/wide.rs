@@ -30,6 +30,7 @@ use crate::tracer::accel::bvh::Bvh;
 use crate::tracer::accel::packet::{LANES, Packet};
 use crate::tracer::geometry::hit::Closest;
 use crate::tracer::geometry::sphere::Sphere;
+use crate::tracer::math::aabb::SLAB_ROUNDING;
 use crate::tracer::math::ray::Ray;
 use crate::tracer::math::real::{Real, to_f32_at_most};
 
@@ -335,10 +336,6 @@ pub(super) struct Slab {
 pub(super) fn reach(closest: &Closest) -> Real {
     closest.t * SLAB_ROUNDING
 }
-
-/// pbrt's bound on the slab test's own rounding: the exit distance is scaled up by
-/// `1 + 2γ₃`, so a box the ray grazes is never missed by rounding.
-const SLAB_ROUNDING: Real = 1.0 + 2.0 * (3.0 * Real::EPSILON / 2.0) / (1.0 - 3.0 * Real::EPSILON / 2.0);
 
 impl Slab {
     #[inline(always)]

@@ -22,6 +22,12 @@ impl Default for Aabb {
     }
 }
 
+/// pbrt's bound on the slab test's own rounding, `1 + 2γ₃`: a slab distance carries three
+/// roundings (the reciprocal, the subtraction, the product), so an exit distance scaled up by
+/// it never misses a box the ray grazes, and a box entered at a hit's distance times it is
+/// never pruned before that hit.
+pub const SLAB_ROUNDING: Real = 1.0 + 2.0 * (3.0 * Real::EPSILON / 2.0) / (1.0 - 3.0 * Real::EPSILON / 2.0);
+
 impl Aabb {
     /// The empty box: the union's identity.
     pub const EMPTY: Aabb = Aabb { min: Vec3::splat(Real::INFINITY), max: Vec3::splat(Real::NEG_INFINITY) };
@@ -90,12 +96,11 @@ impl Aabb {
     /// ray meets first on an axis depends on its direction, which a bounce draws at random.
     #[inline(always)]
     pub fn enters(&self, ray: &Ray, t_max: Real) -> bool {
-        const ROUNDING: Real = 1.0 + 2.0 * (3.0 * Real::EPSILON / 2.0) / (1.0 - 3.0 * Real::EPSILON / 2.0);
         let inv = ray.dir.recip();
         let (low, high) = ((self.min - ray.origin) * inv, (self.max - ray.origin) * inv);
         let backwards = inv.cmplt(Vec3::ZERO);
         let t_in = Vec3::select(backwards, high, low);
-        let t_out = Vec3::select(backwards, low, high) * ROUNDING;
+        let t_out = Vec3::select(backwards, low, high) * SLAB_ROUNDING;
         // `if a > b { a } else { b }`: maxss, which keeps `b` where `a` is NaN.
         let later = |a: Real, b: Real| if a > b { a } else { b };
         let sooner = |a: Real, b: Real| if a < b { a } else { b };
