@@ -87,31 +87,33 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
         *rays += 1;
         let cast = Cast { n, medium_seed: path.medium_seed(n) };
         let found = if WORLD { scene.hit_world(&ray, &path.probe(cast)) } else { closest_hit(&ray) };
-        let Some(hit) = found else { return path.escaped(ray.dir) };
+        // Borrowed, not moved: a move copied the record in 16-byte pieces right after the
+        // search had written it field by field, and such a load waits for the stores it spans.
+        let Some(hit) = &found else { return path.escaped(ray.dir) };
         rng.bounce(n - 1);
-        let material = scene.material(&hit);
+        let material = scene.material(hit);
         if WORLD {
             let counted = n > 1 || first_light;
-            path.emission_met(&hit, if counted { material.emitted(&hit) } else { Vec3::ZERO });
+            path.emission_met(hit, if counted { material.emitted(hit) } else { Vec3::ZERO });
         }
-        let Some(mut scatter) = material.scatter(ray.dir, &hit, &scene.textures, rng) else {
+        let Some(mut scatter) = material.scatter(ray.dir, hit, &scene.textures, rng) else {
             return path.radiance;
         };
         path.weighed = None;
         // Not on a path's last ray: the reflection could not have met a light either.
         if path.aiming == LightSampling::Mis && n < settings.max_depth {
-            path.glint(&hit, material, ray.dir, scatter.direction, cast, rays);
+            path.glint(hit, material, ray.dir, scatter.direction, cast, rays);
         }
         // Tested first, so that a first-book scene (always `Bsdf`) has no further work here.
         let lobe = if path.aiming == LightSampling::Bsdf && !guiding { None } else { material.lobe() };
         if path.caustics {
-            path.follow(&hit, lobe, scatter.direction);
+            path.follow(hit, lobe, scatter.direction);
         }
         if let Some(lobe) = lobe {
             // A guided bounce is drawn before the light samples, which weigh its direction
             // (and count the light they find with the material's own attenuation).
             let drawn = (guiding && guides(n, path.aiming))
-                .then(|| guided_bounce(guide, &hit, lobe, &mut scatter.direction, rng));
+                .then(|| guided_bounce(guide, hit, lobe, &mut scatter.direction, rng));
             // The light's numbers only where lights are aimed at: under `bsdf` a pass that
             // learns (and so has a lobe) must draw what one that does not draws.
             if path.aiming != LightSampling::Bsdf {
@@ -119,10 +121,10 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
             }
             match path.aiming {
                 LightSampling::Mis if n < settings.max_depth => {
-                    path.sample_lights(&hit, lobe, &scatter, cast, rng, rays);
+                    path.sample_lights(hit, lobe, &scatter, cast, rng, rays);
                 }
                 LightSampling::Mixture => {
-                    let goes_on = mixture_bounce(scene.lights(), &hit, start.time, lobe, &mut scatter, rng);
+                    let goes_on = mixture_bounce(scene.lights(), hit, start.time, lobe, &mut scatter, rng);
                     if !goes_on {
                         return path.radiance;
                     }
@@ -133,7 +135,7 @@ pub fn trace<R: SampleRng + ?Sized, const WORLD: bool>(
                 scatter.attenuation *= drawn.weight;
                 if let Some(trail) = trail.as_deref_mut() {
                     let throughput = path.throughput * scatter.attenuation;
-                    trail.push(&hit, lobe, scatter.direction, drawn.pdf, throughput, path.radiance);
+                    trail.push(hit, lobe, scatter.direction, drawn.pdf, throughput, path.radiance);
                 }
             }
         }
