@@ -121,8 +121,7 @@ fn raypool_isa_chooses_a_level_and_refuses_what_it_cannot_run() {
 /// A code-generation guard, not a timing: no function of the built `raypool` uses a 512-bit
 /// register (`zmm`). The avx512 level keeps eight lanes, in 256-bit registers; a lone 512-bit
 /// instruction (once, the compiler's one masked load of a quad hit's two coordinates, a ray)
-/// slowed every later instruction on an Intel Xeon, `cornell` by about 17%
-/// (`results/simd.md`, fifth pass). Third-party code that uses them on purpose, outside the
+/// slowed every later instruction on an Intel Xeon (`results/simd.md`, fifth pass). Third-party code that uses them on purpose, outside the
 /// render loop, is listed with where it runs. Needs binutils' `objdump`; without it, skipped.
 /// Not in the `f64` build: made to compare numerics, not speed, it moves its eight f64 lanes
 /// (64 bytes) in whatever registers the compiler picks.
