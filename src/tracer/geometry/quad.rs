@@ -15,7 +15,7 @@
 use crate::tracer::geometry::hit::Hit;
 use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::ray::Ray;
-use crate::tracer::math::real::{Real, Vec3};
+use crate::tracer::math::real::{Real, Vec3, from_dvec3, to_dvec3};
 
 /// How far past its edges, in units of the edge vectors, a quad still counts a hit: a few
 /// roundings of `α` and `β`, so that neighbours overlap by a hair instead of leaving a crack.
@@ -30,8 +30,9 @@ pub struct Quad {
     pub u: Vec3,
     /// Second edge vector, from `q`.
     pub v: Vec3,
-    /// `(u × v) / |u × v|²`: turns a point of the plane into `(α, β)`.
-    w: Vec3,
+    /// [`dual_basis`]`(u, v)`: a point `p` of the plane (from `q`) has `α = p · dual[0]`
+    /// and `β = p · dual[1]`.
+    dual: [Vec3; 2],
     /// Unit normal, `u × v` normalised.
     normal: Vec3,
     /// Index into the scene's material table.
@@ -56,7 +57,7 @@ impl Quad {
         if !finite || !area2.is_finite() || area2 <= 0.0 {
             return None;
         }
-        Some(Quad { q, u, v, w: n / area2, normal: n / area2.sqrt(), material })
+        Some(Quad { q, u, v, dual: dual_basis(u, v), normal: n / area2.sqrt(), material })
     }
 
     /// The unit normal the quad's front faces.
@@ -64,9 +65,9 @@ impl Quad {
         self.normal
     }
 
-    /// `(u × v) / |u × v|²`, the vector that turns a point of the plane into `(α, β)`.
-    pub fn plane_coordinates(&self) -> Vec3 {
-        self.w
+    /// The vectors whose dot products with a point of the plane (from `q`) are its `(α, β)`.
+    pub fn dual_basis(&self) -> [Vec3; 2] {
+        self.dual
     }
 
     /// Its area.
@@ -85,8 +86,8 @@ impl Quad {
             return None;
         }
         let planar = t * ray.dir - to_corner;
-        let alpha = self.w.dot(planar.cross(self.v));
-        let beta = self.w.dot(self.u.cross(planar));
+        let alpha = planar.dot(self.dual[0]);
+        let beta = planar.dot(self.dual[1]);
         let inside = |x: Real| (-EDGE..=1.0 + EDGE).contains(&x);
         (inside(alpha) && inside(beta)).then_some((t, alpha, beta))
     }
@@ -121,6 +122,18 @@ impl Quad {
     pub fn corners(&self) -> [Vec3; 4] {
         [self.q, self.q + self.u, self.q + self.v, self.q + self.u + self.v]
     }
+}
+
+/// The vectors `v × w` and `w × u`, with `w = (u × v) / |u × v|²`: the dual basis of
+/// `(u, v)` in their plane (`dual[0] · u = 1`, `dual[0] · v = 0`, and the other way round for
+/// `dual[1]`). The book finds `α = w · (p × v)` and `β = w · (u × p)` at every ray; the
+/// triple products turned round, `p · (v × w)` and `p · (w × u)`, leave one dot product each
+/// per ray, and the cross products are taken once, in f64, so each vector is rounded once.
+fn dual_basis(u: Vec3, v: Vec3) -> [Vec3; 2] {
+    let (u, v) = (to_dvec3(u), to_dvec3(v));
+    let n = u.cross(v);
+    let w = n / n.length_squared();
+    [from_dvec3(v.cross(w)), from_dvec3(w.cross(u))]
 }
 
 impl Bounded for Quad {

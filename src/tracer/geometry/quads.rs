@@ -1,14 +1,14 @@
-//! Eight quads tested at once: their corners, normals and edge vectors stored as structure of
+//! Eight quads tested at once: their corners, normals and dual bases stored as structure of
 //! arrays, so one pass of [`Quad::intersect`]'s arithmetic runs in the eight lanes of the
 //! scene's vector level ([`Lanes8`]: one AVX register where the CPU has it, two SSE steps at
 //! the baseline): the walls of a room and a box's faces in one pass, the ground's boxes of the
 //! second book a leaf at a time.
 //!
 //! Every lane performs exactly the arithmetic of [`Quad::intersect`], in glam's order (a dot
-//! product is `(x·x′ + y·y′) + z·z′`, a cross product's component `a·b′ − a′·b`, no fused
-//! multiply-add), so a packet finds bit for bit the distance and the `(α, β)` that testing
-//! the quads one by one finds, at every level; the scalar test's early exit (a plane behind
-//! the ray) only skips work whose answer is "no hit", which a lane computes and finds too.
+//! product is `(x·x′ + y·y′) + z·z′`, no fused multiply-add), so a packet finds bit for bit
+//! the distance and the `(α, β)` that testing the quads one by one finds, at every level;
+//! the scalar test's early exit (a plane behind the ray) only skips work whose answer is "no
+//! hit", which a lane computes and finds too.
 //!
 //! Invariant: unused lanes hold NaN, and every comparison with NaN is false, so they never
 //! report a hit.
@@ -29,9 +29,8 @@ type Wide = [Real; LANES];
 pub struct QuadPacket {
     q: [Wide; 3],
     normal: [Wide; 3],
-    w: [Wide; 3],
-    u: [Wide; 3],
-    v: [Wide; 3],
+    /// [`Quad::dual_basis`]: `α`'s vector, then `β`'s.
+    dual: [[Wide; 3]; 2],
 }
 
 /// What a packet's test found: each lane's distance and `(α, β)` (meaningful in the lanes
@@ -100,9 +99,10 @@ impl QuadPacket {
         QuadPacket {
             q: lanes(|quad| quad.q.to_array()),
             normal: lanes(|quad| quad.normal().to_array()),
-            w: lanes(|quad| quad.plane_coordinates().to_array()),
-            u: lanes(|quad| quad.u.to_array()),
-            v: lanes(|quad| quad.v.to_array()),
+            dual: [
+                lanes(|quad| quad.dual_basis()[0].to_array()),
+                lanes(|quad| quad.dual_basis()[1].to_array()),
+            ],
         }
     }
 
@@ -110,17 +110,15 @@ impl QuadPacket {
     #[inline(always)]
     pub fn intersect<L: Lanes8>(&self, lanes: L, ray: &Ray, t_max: Real) -> QuadHits {
         let l = lanes;
-        let (n, q, w) = (load3(l, &self.normal), load3(l, &self.q), load3(l, &self.w));
-        let (u, v) = (load3(l, &self.u), load3(l, &self.v));
+        let (n, q) = (load3(l, &self.normal), load3(l, &self.q));
         let o = [l.splat(ray.origin.x), l.splat(ray.origin.y), l.splat(ray.origin.z)];
         let d = [l.splat(ray.dir.x), l.splat(ray.dir.y), l.splat(ray.dir.z)];
         let denom = dot3(l, n, d);
         let c = [l.sub(q[0], o[0]), l.sub(q[1], o[1]), l.sub(q[2], o[2])];
         let t = l.div(dot3(l, n, c), denom);
         let p = [l.sub(l.mul(t, d[0]), c[0]), l.sub(l.mul(t, d[1]), c[1]), l.sub(l.mul(t, d[2]), c[2])];
-        // α = w·(p × v), β = w·(u × p).
-        let alpha = dot3(l, w, cross3(l, p, v));
-        let beta = dot3(l, w, cross3(l, u, p));
+        let alpha = dot3(l, p, load3(l, &self.dual[0]));
+        let beta = dot3(l, p, load3(l, &self.dual[1]));
         let (low, high) = (l.splat(-EDGE), l.splat(1.0 + EDGE));
         let mask = l.lt_mask(l.splat(0.0), t)
             & l.lt_mask(t, l.splat(t_max))
@@ -145,14 +143,4 @@ fn load3<L: Lanes8>(l: L, a: &[Wide; 3]) -> [L::V; 3] {
 #[inline(always)]
 fn dot3<L: Lanes8>(l: L, a: [L::V; 3], b: [L::V; 3]) -> L::V {
     l.add(l.add(l.mul(a[0], b[0]), l.mul(a[1], b[1])), l.mul(a[2], b[2]))
-}
-
-/// `a × b`, each component `a·b′ − a′·b` in glam's order.
-#[inline(always)]
-fn cross3<L: Lanes8>(l: L, a: [L::V; 3], b: [L::V; 3]) -> [L::V; 3] {
-    [
-        l.sub(l.mul(a[1], b[2]), l.mul(a[2], b[1])),
-        l.sub(l.mul(a[2], b[0]), l.mul(a[0], b[2])),
-        l.sub(l.mul(a[0], b[1]), l.mul(a[1], b[0])),
-    ]
 }
