@@ -16,10 +16,13 @@
 //! Needs Debian's `libembree-dev` (Embree 3). Writes `results/embree.md` (or `$RAYPOOL_RESULTS/embree.md`, or `--out FILE`).
 //! `--quick`: 300 × 200 at 4 spp, 5 rounds; by default 600 × 400 at 16 spp, 7 rounds.
 //! Then the triangle table (`embree/triangles.rs`): the `mesh` scene's mesh, the hit search alone
-//! over a fixed ray set; `--triangles-only` reruns that alone, keeping the file's sphere table.
+//! over a fixed ray set, and the quad tables (`embree/quads.rs`): the second book's quads and
+//! an instance, likewise; `--triangles-only` reruns those alone, keeping the file's sphere table.
 
 #[path = "embree/library.rs"]
 mod library;
+#[path = "embree/quads.rs"]
+mod quads;
 #[path = "embree/triangles.rs"]
 mod triangles;
 
@@ -122,7 +125,13 @@ fn main() {
             )
         })
         .join("\n");
-    let report = format!("{spheres}\n{triangles}");
+    // The second book's quads: its ground of boxes, and the Cornell box's room and turned box.
+    let quads = ["next-week", "cornell"]
+        .map(|scene| {
+            quads::section(options.quick, scene, &command, &Machine::current().describe(), &embree_version())
+        })
+        .join("\n");
+    let report = format!("{spheres}\n{triangles}\n{quads}");
     std::fs::write(&options.out, &report)
         .unwrap_or_else(|e| panic!("cannot write {}: {e}", options.out.display()));
     print!("{report}");

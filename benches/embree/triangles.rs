@@ -132,7 +132,7 @@ impl Drop for EmbreeTriangles {
 }
 
 /// splitmix64: reproducible numbers in [0, 1) with no generator state to share.
-fn uniform(state: &mut u64) -> Real {
+pub(crate) fn uniform(state: &mut u64) -> Real {
     *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
     let mut z = *state;
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -141,7 +141,7 @@ fn uniform(state: &mut u64) -> Real {
 }
 
 /// A uniformly random unit vector (rejection from the cube).
-fn unit_vector(state: &mut u64) -> Vec3 {
+pub(crate) fn unit_vector(state: &mut u64) -> Vec3 {
     loop {
         let v = Vec3::new(uniform(state), uniform(state), uniform(state)) * 2.0 - Vec3::ONE;
         let l = v.length_squared();
@@ -200,7 +200,7 @@ fn disagreements(mesh: &Mesh, embree: &EmbreeTriangles, rays: &[Ray]) -> (usize,
 }
 
 /// One timed pass over `rays`: seconds, and the hits counted (so that nothing is skipped).
-fn pass(rays: &[Ray], closest: impl Fn(&Ray) -> Option<f32>) -> (f64, usize) {
+pub(crate) fn pass(rays: &[Ray], closest: impl Fn(&Ray) -> Option<f32>) -> (f64, usize) {
     let start = Instant::now();
     let mut hits = 0;
     let mut sum = 0.0f32;
@@ -217,7 +217,7 @@ fn pass(rays: &[Ray], closest: impl Fn(&Ray) -> Option<f32>) -> (f64, usize) {
 /// The Embree devices raypool is compared with: its own choice of instruction set (on a CPU
 /// with AVX2 or AVX-512, an eight-wide tree), then held to each level raypool runs at (its
 /// configuration string `isa=…`), with the name of that level (`None`: its own choice).
-const EMBREE_DEVICES: [(&str, &str, &CStr, Option<&str>); 4] = [
+pub(crate) const EMBREE_DEVICES: [(&str, &str, &CStr, Option<&str>); 4] = [
     ("Embree triangles + Embree tree, its own CPU dispatch", "Embree", c"", None),
     ("Embree held to SSE2 (`isa=sse2`)", "Embree held to SSE2", c"isa=sse2", Some("sse2")),
     ("Embree held to AVX2 (`isa=avx2`)", "Embree held to AVX2", c"isa=avx2", Some("avx2")),
