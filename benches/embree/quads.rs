@@ -295,11 +295,12 @@ pub fn section(quick: bool, scene: &str, command: &str, machine: &str, embree_ve
         let ratios: Vec<f64> = seconds[k].iter().zip(&seconds[widest]).map(|(t, r)| t / r).collect();
         median_of(&ratios)
     };
+    let boxed = if instances.is_empty() { "" } else { "; the box an instance" };
     let rows: String = order
         .iter()
         .map(|&k| {
             let label = if k < levels.len() {
-                format!("raypool at {:?} (runs of 8-lane quad packets; the box an instance)", levels[k])
+                format!("raypool at {:?} (runs of 8-lane quad packets{boxed})", levels[k])
             } else {
                 devices[k - levels.len()].0.replace("triangles", "quads")
             };
@@ -332,7 +333,8 @@ pub fn section(quick: bool, scene: &str, command: &str, machine: &str, embree_ve
          {rows}",
         what = match instances.len() {
             0 => format!("{} quads", quads.len()),
-            i => format!("{} quads and {i} instanced box(es) of six", quads.len()),
+            1 => format!("{} quads and its box, an instance of six more", quads.len()),
+            i => format!("{} quads and {i} instances of boxes", quads.len()),
         },
         rays = rays.len(),
         widest_name = levels[widest],
