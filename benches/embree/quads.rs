@@ -34,12 +34,13 @@ use raypool::tracer::geometry::quad::Quad;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3, to_f32};
 use raypool::tracer::math::transform::Transform;
+use raypool::tracer::scene::Scene;
 use raypool::tracer::world::object::{Group, Instance, Object};
 use raypool::tracer::world::probe::Probe;
 
 use crate::library::{INVALID_ID, embree_ray, incoherent_context, no_hit};
 use crate::median_of;
-use crate::triangles::{EMBREE_DEVICES, pass, uniform, unit_vector};
+use crate::triangles::{embree_devices, pass, ray_set};
 
 /// Quads placed together by a rigid transform: an instance, as Embree is given it.
 pub struct PlacedQuads {
@@ -171,8 +172,7 @@ impl Drop for EmbreeQuads {
 
 /// A scene's quads and its instances of groups of quads (the rest left out), as raypool's
 /// group and as the lists Embree's scene is built from.
-fn quads_of(scene: &str) -> QuadWorld {
-    let scene = builtin_scene(scene, DEFAULT_SCENE_SEED).expect("a built-in scene").to_scene();
+fn quads_of(scene: &Scene) -> QuadWorld {
     let only_quads = |objects: &[Object]| -> Option<Vec<Quad>> {
         objects.iter().map(|o| if let Object::Quad(q) = o { Some(*q) } else { None }).collect()
     };
@@ -199,29 +199,6 @@ fn quads_of(scene: &str) -> QuadWorld {
     QuadWorld { group: Group::new(objects), quads, instances }
 }
 
-/// The fixed ray set: a jittered camera ray per pixel of a `size × size` image, then a
-/// diffuse bounce from each one's hit on `world`, spawned as the renderer spawns rays.
-fn ray_set(camera: &Camera, world: &Group, size: u32) -> Vec<Ray> {
-    let mut state = 2u64;
-    let mut rays = Vec::new();
-    for j in 0..size {
-        for i in 0..size {
-            let (x, y) = (i as Real + uniform(&mut state), j as Real + uniform(&mut state));
-            rays.push(camera.center_ray(x, y));
-        }
-    }
-    let probe = Probe::default();
-    for k in 0..rays.len() {
-        if let Some(hit) = world.hit(&rays[k], Real::INFINITY, &probe) {
-            let dir = hit.normal + unit_vector(&mut state);
-            if dir.length_squared() > 1e-8 {
-                rays.push(hit.spawn(dir.normalize()));
-            }
-        }
-    }
-    rays
-}
-
 /// Rays on which raypool and `embree` disagree: hit against miss, or distances apart by more
 /// than a relative 1e-4 (and 16 f32 ulps of the points' magnitude).
 fn disagreements(world: &Group, embree: &EmbreeQuads, rays: &[Ray]) -> usize {
@@ -243,14 +220,13 @@ fn disagreements(world: &Group, embree: &EmbreeQuads, rays: &[Ray]) -> usize {
 /// different number of hits.
 pub fn section(quick: bool, scene: &str, command: &str, machine: &str, embree_version: &str) -> String {
     let (size, rounds) = if quick { (200, 7) } else { (400, 21) };
-    let QuadWorld { group: world, quads, instances } = quads_of(scene);
     let file = builtin_scene(scene, DEFAULT_SCENE_SEED).expect("a built-in scene").to_scene();
-    let rays = ray_set(&Camera::new(&file.camera, size, size), &world, size);
+    let QuadWorld { group: world, quads, instances } = quads_of(&file);
+    let probe = Probe::default();
+    let camera = Camera::new(&file.camera, size, size);
+    let rays = ray_set(&camera, size, size, 2, |ray| world.hit(ray, Real::INFINITY, &probe));
     let levels = Isa::available();
-    let devices: Vec<_> = EMBREE_DEVICES
-        .iter()
-        .filter(|(.., level)| level.is_none_or(|name| Isa::named(name).is_ok()))
-        .collect();
+    let devices = embree_devices();
     let embrees: Vec<EmbreeQuads> = devices
         .iter()
         .map(|(.., config, _)| EmbreeQuads::new(&quads, &instances, config).unwrap_or_else(|e| panic!("{e}")))

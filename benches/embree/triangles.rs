@@ -38,6 +38,7 @@ use raypool::scenes::assets::GeneratedMesh;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::tracer::accel::isa::Isa;
 use raypool::tracer::camera::Camera;
+use raypool::tracer::geometry::hit::Hit;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3, to_f32};
 use raypool::tracer::world::mesh::Mesh;
@@ -132,7 +133,7 @@ impl Drop for EmbreeTriangles {
 }
 
 /// splitmix64: reproducible numbers in [0, 1) with no generator state to share.
-pub(crate) fn uniform(state: &mut u64) -> Real {
+fn uniform(state: &mut u64) -> Real {
     *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
     let mut z = *state;
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -141,7 +142,7 @@ pub(crate) fn uniform(state: &mut u64) -> Real {
 }
 
 /// A uniformly random unit vector (rejection from the cube).
-pub(crate) fn unit_vector(state: &mut u64) -> Vec3 {
+fn unit_vector(state: &mut u64) -> Vec3 {
     loop {
         let v = Vec3::new(uniform(state), uniform(state), uniform(state)) * 2.0 - Vec3::ONE;
         let l = v.length_squared();
@@ -151,11 +152,18 @@ pub(crate) fn unit_vector(state: &mut u64) -> Vec3 {
     }
 }
 
-/// The fixed ray set: a jittered camera ray per pixel of a `width × height` image of the
-/// scene, then a diffuse bounce (normal + unit vector, as a Lambertian surface scatters) from
-/// each camera ray's hit on `mesh`, spawned off the surface as the renderer spawns rays.
-fn ray_set(camera: &Camera, mesh: &Mesh, width: u32, height: u32) -> Vec<Ray> {
-    let mut state = 1u64;
+/// A fixed ray set: a jittered camera ray per pixel of a `width × height` image of the scene
+/// (jittered by numbers from `seed`), then a diffuse bounce (normal + unit vector, as a
+/// Lambertian surface scatters) from each camera ray's hit found by `hit`, spawned off the
+/// surface as the renderer spawns rays.
+pub(crate) fn ray_set(
+    camera: &Camera,
+    width: u32,
+    height: u32,
+    seed: u64,
+    hit: impl Fn(&Ray) -> Option<Hit>,
+) -> Vec<Ray> {
+    let mut state = seed;
     let mut rays = Vec::new();
     for j in 0..height {
         for i in 0..width {
@@ -165,7 +173,7 @@ fn ray_set(camera: &Camera, mesh: &Mesh, width: u32, height: u32) -> Vec<Ray> {
     }
     let camera_rays = rays.len();
     for k in 0..camera_rays {
-        if let Some(hit) = mesh.hit(&rays[k], Real::INFINITY, 0, Isa::BASELINE) {
+        if let Some(hit) = hit(&rays[k]) {
             let dir = hit.normal + unit_vector(&mut state);
             if dir.length_squared() > 1e-8 {
                 rays.push(hit.spawn(dir.normalize()));
@@ -223,6 +231,12 @@ pub(crate) const EMBREE_DEVICES: [(&str, &str, &CStr, Option<&str>); 4] = [
     ("Embree held to AVX2 (`isa=avx2`)", "Embree held to AVX2", c"isa=avx2", Some("avx2")),
     ("Embree held to AVX-512 (`isa=avx512`)", "Embree held to AVX-512", c"isa=avx512", Some("avx512")),
 ];
+/// [`EMBREE_DEVICES`] but those held to a level this CPU does not have.
+pub(crate) fn embree_devices()
+-> Vec<&'static (&'static str, &'static str, &'static CStr, Option<&'static str>)> {
+    EMBREE_DEVICES.iter().filter(|(.., level)| level.is_none_or(|name| Isa::named(name).is_ok())).collect()
+}
+
 /// Runs the comparison and returns the results' section (Markdown). Panics where raypool and
 /// an Embree device disagree beyond the tolerance, or a timed pass counts a different number
 /// of hits.
@@ -250,14 +264,11 @@ pub fn section(
         })
         .expect("the mesh scene has a mesh");
     let camera = Camera::new(&scene.camera, width, height);
-    let rays = ray_set(&camera, &mesh, width, height);
+    let rays = ray_set(&camera, width, height, 1, |ray| mesh.hit(ray, Real::INFINITY, 0, Isa::BASELINE));
     let camera_rays = (width * height) as usize;
     // The levels this CPU has: raypool at each, and Embree held to each.
     let levels = Isa::available();
-    let devices: Vec<_> = EMBREE_DEVICES
-        .iter()
-        .filter(|(.., level)| level.is_none_or(|name| Isa::named(name).is_ok()))
-        .collect();
+    let devices = embree_devices();
     let embrees: Vec<EmbreeTriangles> = devices
         .iter()
         .map(|(_, _, config, _)| {
