@@ -40,7 +40,7 @@ use raypool::tracer::world::probe::Probe;
 
 use crate::library::{INVALID_ID, embree_ray, incoherent_context, no_hit};
 use crate::median_of;
-use crate::triangles::{embree_devices, pass, ray_set};
+use crate::triangles::{distances_apart, embree_devices, pass, ray_set};
 
 /// Quads placed together by a rigid transform: an instance, as Embree is given it.
 pub struct PlacedQuads {
@@ -204,11 +204,7 @@ fn quads_of(scene: &Scene) -> QuadWorld {
 fn disagreements(world: &Group, embree: &EmbreeQuads, rays: &[Ray]) -> usize {
     let probe = Probe::default();
     let apart = |ray: &Ray| match (world.hit(ray, Real::INFINITY, &probe), embree.closest(ray)) {
-        (Some(hit), Some(t)) => {
-            let ours = to_f32(hit.t);
-            let magnitude = to_f32(ray.origin.abs().max_element()) + t.abs();
-            (ours - t).abs() > (1e-4 * ours.abs().max(t.abs())).max(16.0 * f32::EPSILON * magnitude)
-        }
+        (Some(hit), Some(t)) => distances_apart(ray, to_f32(hit.t), t),
         (None, None) => false,
         _ => true,
     };

@@ -191,20 +191,21 @@ fn disagreements(mesh: &Mesh, embree: &EmbreeTriangles, rays: &[Ray]) -> (usize,
         match (mesh.closest(ray, Real::INFINITY, Isa::BASELINE), embree.closest(ray)) {
             (Some((_, ours)), Some((_, t))) => {
                 hits += 1;
-                let ours = to_f32(ours.t);
-                // A relative 1e-4, but never below the f32 rounding of the points involved
-                // (16 ulps of their magnitude): a bounce meeting its neighbour 1e-4 away.
-                let magnitude = to_f32(ray.origin.abs().max_element()) + t.abs();
-                let tolerance = (1e-4 * ours.abs().max(t.abs())).max(16.0 * f32::EPSILON * magnitude);
-                if (ours - t).abs() > tolerance {
-                    distance += 1;
-                }
+                distance += usize::from(distances_apart(ray, to_f32(ours.t), t));
             }
             (None, None) => {}
             _ => hit_miss += 1,
         }
     }
     (hit_miss, distance, hits)
+}
+
+/// Whether two searches' distances along `ray` are apart: by more than a relative 1e-4, and
+/// more than the f32 rounding of the points involved (16 ulps of their magnitude: a bounce
+/// meeting its neighbour 1e-4 away).
+pub(crate) fn distances_apart(ray: &Ray, ours: f32, theirs: f32) -> bool {
+    let magnitude = to_f32(ray.origin.abs().max_element()) + theirs.abs();
+    (ours - theirs).abs() > (1e-4 * ours.abs().max(theirs.abs())).max(16.0 * f32::EPSILON * magnitude)
 }
 
 /// One timed pass over `rays`: seconds, and the hits counted (so that nothing is skipped).
