@@ -35,7 +35,7 @@ use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3, to_f32};
 use raypool::tracer::math::transform::Transform;
 use raypool::tracer::scene::Scene;
-use raypool::tracer::world::object::{Group, Instance, Object};
+use raypool::tracer::world::object::{Group, Object};
 use raypool::tracer::world::probe::Probe;
 
 use crate::library::{INVALID_ID, embree_ray, incoherent_context, no_hit};
@@ -184,13 +184,9 @@ fn quads_of(scene: &Scene) -> QuadWorld {
                 objects.push(object.clone());
             }
             Object::Instance(instance) => {
-                if let Some(group) = only_quads(instance.group.objects()) {
-                    instances.push(PlacedQuads { transform: instance.transform, quads: group.clone() });
-                    let placed = Instance::new(
-                        instance.transform,
-                        Group::new(group.into_iter().map(Object::Quad).collect()),
-                    );
-                    objects.push(Object::Instance(Box::new(placed)));
+                if let Some(quads) = only_quads(instance.group.objects()) {
+                    instances.push(PlacedQuads { transform: instance.transform, quads });
+                    objects.push(object.clone());
                 }
             }
             _ => {}
