@@ -95,12 +95,7 @@ impl<'a> EmbreeSpheres<'a> {
             rtcCommitScene(scene);
             scene
         };
-        let built = EmbreeSpheres { device, scene, spheres, _borrow: PhantomData };
-        // SAFETY: a live device.
-        match unsafe { rtcGetDeviceError(device) } {
-            RTCError::NONE => Ok(built),
-            error => Err(format!("Embree could not build the scene: {error:?}")),
-        }
+        built(device, EmbreeSpheres { device, scene, spheres, _borrow: PhantomData }, "the scene")
     }
 
     /// The closest hit along `ray`, found by Embree, recorded by raypool.
@@ -204,6 +199,16 @@ unsafe extern "C" fn sphere_intersect(args: *const RTCIntersectFunctionNArgument
             rayhit.ray.tfar = to_f32(t);
             rayhit.hit = RTCHit { primID: args.primID, geomID: args.geomID, ..no_hit() };
         }
+    }
+}
+
+/// `scene` (which holds `device`) if Embree reports no error on `device`, else that error,
+/// naming `what` (dropping `scene` releases its handles).
+pub fn built<T>(device: RTCDevice, scene: T, what: &str) -> Result<T, String> {
+    // SAFETY: the caller's device, live while `scene` holds it.
+    match unsafe { rtcGetDeviceError(device) } {
+        RTCError::NONE => Ok(scene),
+        error => Err(format!("Embree could not build {what}: {error:?}")),
     }
 }
 

@@ -22,10 +22,10 @@
 use std::ffi::{CStr, c_void};
 
 use embree::sys::{
-    RTCBufferType, RTCBuildQuality, RTCDevice, RTCError, RTCFormat, RTCGeometryType, RTCRayHit, RTCScene,
-    rtcAttachGeometry, rtcCommitGeometry, rtcCommitScene, rtcGetDeviceError, rtcIntersect1, rtcNewDevice,
-    rtcNewGeometry, rtcNewScene, rtcReleaseDevice, rtcReleaseGeometry, rtcReleaseScene,
-    rtcSetGeometryInstancedScene, rtcSetGeometryTransform, rtcSetNewGeometryBuffer, rtcSetSceneBuildQuality,
+    RTCBufferType, RTCBuildQuality, RTCDevice, RTCFormat, RTCGeometryType, RTCRayHit, RTCScene,
+    rtcAttachGeometry, rtcCommitGeometry, rtcCommitScene, rtcIntersect1, rtcNewDevice, rtcNewGeometry,
+    rtcNewScene, rtcReleaseDevice, rtcReleaseGeometry, rtcReleaseScene, rtcSetGeometryInstancedScene,
+    rtcSetGeometryTransform, rtcSetNewGeometryBuffer, rtcSetSceneBuildQuality,
 };
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::tracer::accel::isa::Isa;
@@ -38,7 +38,7 @@ use raypool::tracer::scene::Scene;
 use raypool::tracer::world::object::{Group, Object};
 use raypool::tracer::world::probe::Probe;
 
-use crate::library::{INVALID_ID, embree_ray, incoherent_context, no_hit};
+use crate::library::{INVALID_ID, built, embree_ray, incoherent_context, no_hit};
 use crate::median_of;
 use crate::triangles::{distances_apart, embree_devices, pass, ray_set};
 
@@ -141,12 +141,7 @@ impl EmbreeQuads {
         }
         // SAFETY: a live device; the scene is released in `Drop`.
         let scene = unsafe { quad_scene(device, quads, instances) };
-        let built = EmbreeQuads { device, scene };
-        // SAFETY: a live device.
-        match unsafe { rtcGetDeviceError(device) } {
-            RTCError::NONE => Ok(built),
-            error => Err(format!("Embree could not build the quads: {error:?}")),
-        }
+        built(device, EmbreeQuads { device, scene }, "the quads")
     }
 
     /// The nearest hit's distance along `ray`.

@@ -29,10 +29,10 @@ use std::ptr;
 use std::time::Instant;
 
 use embree::sys::{
-    RTCBufferType, RTCBuildQuality, RTCDevice, RTCError, RTCFormat, RTCGeometryType, RTCRayHit, RTCScene,
-    rtcAttachGeometry, rtcCommitGeometry, rtcCommitScene, rtcGetDeviceError, rtcIntersect1, rtcNewDevice,
-    rtcNewGeometry, rtcNewScene, rtcReleaseDevice, rtcReleaseGeometry, rtcReleaseScene,
-    rtcSetNewGeometryBuffer, rtcSetSceneBuildQuality,
+    RTCBufferType, RTCBuildQuality, RTCDevice, RTCFormat, RTCGeometryType, RTCRayHit, RTCScene,
+    rtcAttachGeometry, rtcCommitGeometry, rtcCommitScene, rtcIntersect1, rtcNewDevice, rtcNewGeometry,
+    rtcNewScene, rtcReleaseDevice, rtcReleaseGeometry, rtcReleaseScene, rtcSetNewGeometryBuffer,
+    rtcSetSceneBuildQuality,
 };
 use raypool::scenes::assets::GeneratedMesh;
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
@@ -44,7 +44,7 @@ use raypool::tracer::math::real::{Real, Vec3, to_f32};
 use raypool::tracer::world::mesh::Mesh;
 use raypool::tracer::world::object::Object;
 
-use crate::library::{INVALID_ID, embree_ray, incoherent_context, no_hit};
+use crate::library::{INVALID_ID, built, embree_ray, incoherent_context, no_hit};
 use crate::median_of;
 
 /// Embree's triangle tree over one mesh.
@@ -103,12 +103,7 @@ impl EmbreeTriangles {
             rtcCommitScene(scene);
             scene
         };
-        let built = EmbreeTriangles { device, scene };
-        // SAFETY: a live device.
-        match unsafe { rtcGetDeviceError(device) } {
-            RTCError::NONE => Ok(built),
-            error => Err(format!("Embree could not build the mesh: {error:?}")),
-        }
+        built(device, EmbreeTriangles { device, scene }, "the mesh")
     }
 
     /// The nearest triangle along `ray` as `(triangle, t)`.
