@@ -40,9 +40,9 @@ fn discs() -> (Lights, Vec<Object>) {
     let above = Disc::new(Vec3::new(0.0, 2.0, 0.0), -Vec3::Y, 1.0, 0).unwrap();
     let place = Transform::rotate_y(30.0).then_translate(Vec3::new(3.0, 0.0, 0.0));
     let turned = Disc::new(Vec3::ZERO, place.inverse_vector(-Vec3::X), 0.8, 1).unwrap();
-    let placed = Instance::new(place, Group::new(vec![Object::Disc(turned)]));
+    let placed = Instance::new(place, Group::new(vec![Object::shape(turned)]));
     let away = Disc::new(Vec3::new(0.0, 0.0, -2.5), -Vec3::Z, 0.6, 0).unwrap();
-    let objects = vec![Object::Disc(above), Object::Instance(Box::new(placed)), Object::Disc(away)];
+    let objects = vec![Object::shape(above), Object::Instance(Box::new(placed)), Object::shape(away)];
     (Lights::new(&objects, &materials), objects)
 }
 

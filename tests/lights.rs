@@ -48,12 +48,12 @@ fn lights() -> (Lights, Vec<Object>) {
     let tile = Instance::new(placed, Group::new(vec![Object::Mesh(Arc::new(square), 0)]));
     let plain = Sphere { center: Vec3::new(0.0, -2.0, 0.0), radius: 0.5, material: 2 };
     let objects = vec![
-        Object::Quad(lamp),
-        Object::Quad(behind),
-        Object::Sphere(ball),
-        Object::Moving(moving),
+        Object::shape(lamp),
+        Object::shape(behind),
+        Object::shape(ball),
+        Object::shape(moving),
         Object::Instance(Box::new(tile)),
-        Object::Sphere(plain),
+        Object::shape(plain),
     ];
     (Lights::new(&objects, &materials), objects)
 }
@@ -226,11 +226,11 @@ fn a_shadow_ray_weighs_its_point_as_the_bounce_that_meets_it_does_even_on_small_
         .map(|k| {
             let (turn, height) = (k as Real * 0.021, (k % 10) as Real * 0.1 - 0.5);
             let center = Vec3::new(5.0 * turn.cos(), height, 5.0 * turn.sin());
-            Object::Sphere(Sphere { center, radius: 0.03, material: 0 })
+            Object::shape(Sphere { center, radius: 0.03, material: 0 })
         })
         .collect();
     let pair = [Vec3::new(0.0, 3.0, 0.0), Vec3::new(0.1, 3.0, 0.0)];
-    objects.extend(pair.map(|center| Object::Sphere(Sphere { center, radius: 0.2, material: 0 })));
+    objects.extend(pair.map(|center| Object::shape(Sphere { center, radius: 0.2, material: 0 })));
     let lights = Lights::new(&objects, &[lamp]);
     let probe = Probe::default();
     let (mut small, mut overlapping) = (0, 0);
@@ -269,7 +269,7 @@ fn every_direction_drawn_towards_a_small_far_sphere_has_a_density_in_the_mixture
         .map(|k| {
             let (turn, height) = (k as Real * 0.021, (k % 10) as Real * 0.1 - 0.5);
             let center = Vec3::new(5.0 * turn.cos(), height, 5.0 * turn.sin());
-            Object::Sphere(Sphere { center, radius: 0.03, material: 0 })
+            Object::shape(Sphere { center, radius: 0.03, material: 0 })
         })
         .collect();
     let lights = Lights::new(&objects, &[lamp]);
@@ -343,7 +343,7 @@ fn a_shadow_ray_cast_by_chance_counts_one_over_its_chance() {
 fn the_density_towards_a_drawn_point_is_pdfs_along_its_direction() {
     let lamp = Quad::new(Vec3::new(-0.5, 2.0, -0.5), Vec3::Z, Vec3::X, 0).unwrap();
     let materials = [Material::DiffuseLight { emit: Vec3::splat(4.0), albedo: 0.0 }];
-    let one = Lights::new(&[Object::Quad(lamp)], &materials);
+    let one = Lights::new(&[Object::shape(lamp)], &materials);
     let (several, _) = lights();
     let mut rng = SmallRng::seed_from_u64(5);
     for _ in 0..10_000 {

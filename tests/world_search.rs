@@ -163,7 +163,7 @@ fn rays_grazing_quad_edges_find_the_same_hits_through_a_tree_as_one_by_one() {
     ];
     let (a, b) = (Vec3::new(130.0, 0.0, 65.0), Vec3::new(295.0, 165.0, 230.0));
     quads.extend(box_faces(a, b, 0).unwrap());
-    let objects: Vec<Object> = quads.iter().map(|&q| Object::Quad(q)).collect();
+    let objects: Vec<Object> = quads.iter().map(|&q| Object::shape(q)).collect();
     let tree = Group::with_tree(objects.clone(), true);
     let flat = Group::with_tree(tree.objects().to_vec(), false);
     assert!(tree.has_tree() && !flat.has_tree());
@@ -215,12 +215,12 @@ fn a_group_with_a_medium_breaks_ties_between_surfaces_by_their_order_in_the_grou
             let q = Vec3::new((k % 40) as Real * 50.0, 0.0, (k / 40) as Real * 50.0);
             let large = Quad::new(q, Vec3::new(0.0, 0.0, 40.0), Vec3::new(40.0, 0.0, 0.0), 0).unwrap();
             let small = Quad::new(q, Vec3::new(10.0, 0.0, 0.0), Vec3::new(0.0, 0.0, 10.0), 0).unwrap();
-            [large, small].map(Object::Quad)
+            [large, small].map(Object::shape)
         })
         .collect();
     let mut objects: Vec<Object> = pairs.iter().flatten().cloned().collect();
     let fog = Sphere { center: Vec3::ZERO, radius: 5_000.0, material: 0 };
-    let boundary = Group::new(vec![Object::Sphere(fog)]);
+    let boundary = Group::new(vec![Object::shape(fog)]);
     objects.push(Object::Medium(Box::new(Medium { boundary, density: 1e-6, material: 0, id: 0 })));
     let tree = Group::new(objects);
     assert!(tree.has_tree());

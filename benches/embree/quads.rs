@@ -30,6 +30,7 @@ use embree::sys::{
 use raypool::scenes::builtin::{DEFAULT_SCENE_SEED, builtin_scene};
 use raypool::tracer::accel::isa::Isa;
 use raypool::tracer::camera::Camera;
+use raypool::tracer::geometry::Shape;
 use raypool::tracer::geometry::quad::Quad;
 use raypool::tracer::math::ray::Ray;
 use raypool::tracer::math::real::{Real, Vec3, to_f32};
@@ -169,12 +170,12 @@ impl Drop for EmbreeQuads {
 /// group and as the lists Embree's scene is built from.
 fn quads_of(scene: &Scene) -> QuadWorld {
     let only_quads = |objects: &[Object]| -> Option<Vec<Quad>> {
-        objects.iter().map(|o| if let Object::Quad(q) = o { Some(*q) } else { None }).collect()
+        objects.iter().map(|o| if let Object::Shape(Shape::Quad(q)) = o { Some(*q) } else { None }).collect()
     };
     let (mut objects, mut quads, mut instances) = (Vec::new(), Vec::new(), Vec::new());
     for object in scene.objects() {
         match object {
-            Object::Quad(quad) => {
+            Object::Shape(Shape::Quad(quad)) => {
                 quads.push(*quad);
                 objects.push(object.clone());
             }

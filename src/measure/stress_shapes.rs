@@ -213,7 +213,7 @@ pub fn leaks(solid: Solid, aim: Aim, placed: bool, rays: u64, isa: Isa) -> u64 {
         // The box's own twelve edges (not the triangles' diagonals): one coordinate varies.
         seams.retain(|&[a, b]| (positions[a] - positions[b]).cmpeq(DVec3::ZERO).bitmask().count_ones() == 2);
         let faces = box_faces(Vec3::splat(-1.0), Vec3::splat(1.0), 0).expect("a valid box");
-        faces.map(Object::Quad).to_vec()
+        faces.map(Object::shape).to_vec()
     } else {
         vec![object]
     };
@@ -264,9 +264,9 @@ pub fn acne(flat: Flat, distance: f64, placed: bool, rays: u64, isa: Isa) -> Acn
         (from_dvec3(corner), from_dvec3(DVec3::new(1.0, 0.3, 0.2)), from_dvec3(DVec3::new(-0.2, 1.0, 0.5)));
     let disc = Disc::new(q + 0.5 * (u + v), u.cross(v), 0.5, 0).expect("a valid disc");
     let object = match flat {
-        Flat::Quad => Object::Quad(Quad::new(q, u, v, 0).expect("a valid quad")),
+        Flat::Quad => Object::shape(Quad::new(q, u, v, 0).expect("a valid quad")),
         Flat::Triangle => mesh((vec![to_dvec3(q), to_dvec3(q + u), to_dvec3(q + v)], vec![[0, 1, 2]])).0,
-        Flat::Disc => Object::Disc(disc),
+        Flat::Disc => Object::shape(disc),
     };
     let world = world(vec![object], placed);
     // The edges as the shape has them (a triangle's corners `q + u` are rounded); a disc's
@@ -344,7 +344,7 @@ pub fn thin(flat: Flat, thickness: f64, placed: bool, rays: u64, isa: Isa) -> Th
     let (lo, hi) = (to_dvec3(from_dvec3(lo)), to_dvec3(from_dvec3(hi)));
     let objects = match flat {
         Flat::Quad => {
-            box_faces(from_dvec3(lo), from_dvec3(hi), 0).expect("a valid box").map(Object::Quad).to_vec()
+            box_faces(from_dvec3(lo), from_dvec3(hi), 0).expect("a valid box").map(Object::shape).to_vec()
         }
         Flat::Triangle => vec![mesh(cube(lo, hi)).0],
         Flat::Disc => panic!("a box has no disc faces: thin takes a quad or a triangle"),

@@ -359,7 +359,7 @@ impl SceneFile {
         for g in &self.groups {
             let (inner_spheres, inner) = g.shapes().build(&looks, assets, &mut tables, &mut media);
             let inner =
-                inner_spheres.into_iter().map(crate::tracer::world::object::Object::Sphere).chain(inner);
+                inner_spheres.into_iter().map(crate::tracer::world::object::Object::shape).chain(inner);
             objects.extend(placed(inner.collect(), g.transform.as_ref()));
         }
         let background = match self.background {

@@ -304,7 +304,7 @@ impl<'a> Shapes<'a> {
             let (center, radius, material) = (vec3(s.center), s.radius as Real, material(&s.material));
             match s.center1 {
                 None => still.push(Sphere { center, radius, material }),
-                Some(c1) => objects.push(Object::Moving(MovingSphere {
+                Some(c1) => objects.push(Object::shape(MovingSphere {
                     center0: center,
                     center1: vec3(c1),
                     radius,
@@ -315,11 +315,11 @@ impl<'a> Shapes<'a> {
         for q in quads {
             let quad = Quad::new(vec3(q.q), vec3(q.u), vec3(q.v), material(&q.material))
                 .expect("checked: not degenerate");
-            objects.push(Object::Quad(quad));
+            objects.push(Object::shape(quad));
         }
         for d in discs {
             let disc = Disc::new(vec3(d.center), vec3(d.normal), d.radius as Real, material(&d.material));
-            objects.push(Object::Disc(disc.expect("checked: not degenerate")));
+            objects.push(Object::shape(disc.expect("checked: not degenerate")));
         }
         for b in boxes {
             let faces = box_objects(b.min, b.max, material(&b.material));
@@ -348,7 +348,7 @@ impl<'a> Shapes<'a> {
         for m in media {
             let boundary = match m.boundary {
                 BoundarySpec::Sphere { center, radius } => {
-                    vec![Object::Sphere(Sphere { center: vec3(center), radius: radius as Real, material: 0 })]
+                    vec![Object::shape(Sphere { center: vec3(center), radius: radius as Real, material: 0 })]
                 }
                 BoundarySpec::Box { min, max } => box_objects(min, max, 0),
             };
@@ -368,7 +368,7 @@ impl<'a> Shapes<'a> {
 
 fn box_objects(min: [f64; 3], max: [f64; 3], material: u32) -> Vec<Object> {
     let faces = box_faces(vec3(min), vec3(max), material).expect("checked: a box of some volume");
-    faces.into_iter().map(Object::Quad).collect()
+    faces.into_iter().map(Object::shape).collect()
 }
 
 /// `objects` placed by `transform` as one instance (as they are, without one).

@@ -147,7 +147,7 @@ impl Scene {
         assert!(used.iter().all(|&m| (m as usize) < materials.len()), "material index out of range");
         let first_book = objects.is_empty() && materials.iter().all(Material::is_first_book);
         if !first_book {
-            let objects: Vec<Object> = spheres.into_iter().map(Object::Sphere).chain(objects).collect();
+            let objects: Vec<Object> = spheres.into_iter().map(Object::shape).chain(objects).collect();
             let lights = Lights::new(&objects, &materials);
             let casters = if lights.is_empty() {
                 Casters::default()

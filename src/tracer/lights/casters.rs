@@ -14,6 +14,7 @@
 
 use glam::DVec3;
 
+use crate::tracer::geometry::Shape;
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::Aabb;
 use crate::tracer::math::real::consts::PI;
@@ -254,17 +255,19 @@ impl Casters {
     /// use raypool::tracer::shading::material::Material;
     /// use raypool::tracer::lights::casters::Casters;
     /// use raypool::tracer::world::object::Object;
-    /// let ball = |radius| Object::Sphere(Sphere { center: Vec3::ZERO, radius, material: 0 });
+    /// let ball = |radius| Object::shape(Sphere { center: Vec3::ZERO, radius, material: 0 });
     /// let lamps = Aabb::EMPTY.grow(Vec3::new(-1.0, 5.0, -1.0)).grow(Vec3::new(1.0, 5.0, 1.0));
     /// let casters = Casters::new(&[ball(1.0), ball(-0.9)], &[Material::glass(1.5)], lamps);
     /// assert_eq!(casters.len(), 1); // the bubble inside is not a caster
     /// ```
     pub fn new(objects: &[Object], materials: &[Material], lamps: Aabb) -> Casters {
         let balls = objects.iter().filter_map(|object| match object {
-            Object::Sphere(sphere) if sphere.radius > 0.0 => match materials[sphere.material as usize] {
-                Material::Dielectric { ior, fresnel } => Some(Ball { fresnel, ..Ball::new(*sphere, ior) }),
-                _ => None,
-            },
+            Object::Shape(Shape::Sphere(ball)) if ball.radius > 0.0 => {
+                match materials[ball.material as usize] {
+                    Material::Dielectric { ior, fresnel } => Some(Ball { fresnel, ..Ball::new(*ball, ior) }),
+                    _ => None,
+                }
+            }
             // Only a still glass ball is aimed through: anything else, a new shape too, casts
             // no caustic a path aims at (a bounce still finds it).
             _ => None,

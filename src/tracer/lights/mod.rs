@@ -32,6 +32,7 @@ pub mod casters;
 
 use rand::Rng;
 
+use crate::tracer::geometry::Shape;
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::lights::disc::DiscLight;
 use crate::tracer::lights::quad::QuadLight;
@@ -229,20 +230,20 @@ fn gather(
     };
     for object in objects {
         match object {
-            Object::Sphere(s) => found.push(sphere(MovingSphere {
+            Object::Shape(Shape::Sphere(s)) => found.push(sphere(MovingSphere {
                 center0: s.center,
                 center1: s.center,
                 radius: s.radius,
                 material: s.material,
             })),
-            Object::Moving(moving) => found.push(sphere(*moving)),
-            Object::Quad(quad) if glow(quad.material) > 0.0 => {
+            Object::Shape(Shape::Moving(moving)) => found.push(sphere(*moving)),
+            Object::Shape(Shape::Quad(quad)) if glow(quad.material) > 0.0 => {
                 if let Some(light) = QuadLight::placed(quad, place) {
                     let power = light.power(glow(quad.material));
                     found.push(Found { light: Light::Quad(light), power, emit: emit(quad.material) });
                 }
             }
-            Object::Disc(disc) if glow(disc.material) > 0.0 => {
+            Object::Shape(Shape::Disc(disc)) if glow(disc.material) > 0.0 => {
                 if let Some(light) = DiscLight::placed(disc, place) {
                     let power = light.power(glow(disc.material));
                     found.push(Found { light: Light::Disc(light), power, emit: emit(disc.material) });
@@ -263,7 +264,7 @@ fn gather(
             // not a surface a ray meets). No `_` arm: a shape that emits must be gathered, as a
             // light's density by area is found from its emission alone (`Lights::pdf_of_point`),
             // and an emitter left out would be weighed as if it were drawn: too dark.
-            Object::Quad(_) | Object::Disc(_) | Object::Mesh(..) | Object::Medium(_) => {}
+            Object::Shape(Shape::Quad(_) | Shape::Disc(_)) | Object::Mesh(..) | Object::Medium(_) => {}
         }
     }
 }

@@ -77,7 +77,7 @@ impl Lights {
     /// use raypool::tracer::lights::power::Lights;
     /// use raypool::tracer::world::object::Object;
     /// let lamp = Quad::new(Vec3::new(-1.0, 2.0, -1.0), Vec3::X * 2.0, Vec3::Z * 2.0, 0).unwrap();
-    /// let lights = Lights::new(&[Object::Quad(lamp)], &[Material::DiffuseLight { emit: Vec3::ONE, albedo: 0.0 }]);
+    /// let lights = Lights::new(&[Object::shape(lamp)], &[Material::DiffuseLight { emit: Vec3::ONE, albedo: 0.0 }]);
     /// assert_eq!(lights.len(), 1);
     /// ```
     pub fn new(objects: &[Object], materials: &[Material]) -> Lights {

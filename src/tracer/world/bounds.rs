@@ -9,10 +9,7 @@ use crate::tracer::world::object::Object;
 impl Bounded for Object {
     fn bounds(&self) -> Aabb {
         match self {
-            Object::Sphere(s) => s.bounds(),
-            Object::Moving(m) => m.bounds(),
-            Object::Quad(q) => q.bounds(),
-            Object::Disc(d) => d.bounds(),
+            Object::Shape(shape) => shape.bounds(),
             Object::Mesh(mesh, _) => mesh.bounds(),
             Object::Instance(instance) => instance.bounds(),
             Object::Medium(medium) => medium.boundary.bounds(),
@@ -21,13 +18,8 @@ impl Bounded for Object {
 
     fn centroid(&self) -> Vec3 {
         match self {
-            Object::Sphere(s) => s.center,
-            Object::Disc(d) => d.center,
-            Object::Moving(_)
-            | Object::Quad(_)
-            | Object::Mesh(..)
-            | Object::Instance(_)
-            | Object::Medium(_) => {
+            Object::Shape(shape) => shape.centroid(),
+            Object::Mesh(..) | Object::Instance(_) | Object::Medium(_) => {
                 let b = self.bounds();
                 0.5 * (b.min + b.max)
             }

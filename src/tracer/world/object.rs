@@ -7,11 +7,8 @@
 //! [`Medium`]): an object may be made of objects, so these types are one recursive family, and
 //! one file keeps the imports free of circles.
 
-use crate::tracer::geometry::disc::Disc;
+use crate::tracer::geometry::Shape;
 use crate::tracer::geometry::hit::{Closest, Hit};
-use crate::tracer::geometry::moving::MovingSphere;
-use crate::tracer::geometry::quad::Quad;
-use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::aabb::{Aabb, Bounded};
 use crate::tracer::math::lanes::{Lanes8, WithLanes8};
 use crate::tracer::math::ray::Ray;
@@ -23,17 +20,12 @@ use crate::tracer::world::runs;
 use crate::tracer::world::runs::{Best, Item, Kind, Run, Runs};
 use std::sync::Arc;
 
-/// One object of a scene or of a group.
+/// One object of a scene or of a group (pbrt's `Primitive`): a shape, or what is made of
+/// shapes.
 #[derive(Clone, Debug)]
 pub enum Object {
-    /// A sphere, tested with the robust test of `geometry/sphere.rs`.
-    Sphere(Sphere),
-    /// A sphere moving during the shutter interval.
-    Moving(MovingSphere),
-    /// A parallelogram.
-    Quad(Quad),
-    /// A disc.
-    Disc(Disc),
+    /// A simple shape ([`Shape`]).
+    Shape(Shape),
     /// A triangle mesh (shared: one mesh may be placed many times) and its material.
     Mesh(Arc<Mesh>, u32),
     /// A group placed by a rigid transform.
@@ -43,17 +35,16 @@ pub enum Object {
 }
 
 impl Object {
+    /// `shape` (a sphere, a quad, …) as an object.
+    pub fn shape(shape: impl Into<Shape>) -> Object {
+        Object::Shape(shape.into())
+    }
+
     /// The nearest hit in `(0, t_max)`, if any.
     #[inline]
     pub fn hit(&self, ray: &Ray, t_max: Real, probe: &Probe) -> Option<Hit> {
         match self {
-            Object::Sphere(sphere) => sphere.hit(ray, t_max),
-            Object::Moving(moving) => moving.at(probe.time).hit(ray, t_max),
-            Object::Quad(quad) => {
-                let (t, alpha, beta) = quad.intersect(ray, t_max)?;
-                Some(quad.hit_at(ray, t, alpha, beta))
-            }
-            Object::Disc(disc) => disc.hit(ray, t_max),
+            Object::Shape(shape) => shape.hit(ray, t_max, probe.time),
             Object::Mesh(mesh, material) => mesh.hit(ray, t_max, *material, probe.isa),
             Object::Instance(instance) => instance.hit(ray, t_max, probe),
             Object::Medium(medium) => medium.hit(ray, t_max, probe),
@@ -61,14 +52,12 @@ impl Object {
     }
 
     /// `hit`, its closest, with what [`Object::hit`] left out for hits that may not be the
-    /// closest: a sphere's or a disc's texture coordinates.
+    /// closest: a sphere's or a disc's texture coordinates ([`Shape::with_uv`]).
     #[inline]
     fn with_uv(&self, hit: Hit, probe: &Probe) -> Hit {
         match self {
-            Object::Sphere(sphere) => sphere.with_uv(hit),
-            Object::Moving(moving) => moving.at(probe.time).with_uv(hit),
-            Object::Disc(disc) => disc.with_uv(hit),
-            Object::Quad(_) | Object::Mesh(..) | Object::Instance(_) | Object::Medium(_) => hit,
+            Object::Shape(shape) => shape.with_uv(hit, probe.time),
+            Object::Mesh(..) | Object::Instance(_) | Object::Medium(_) => hit,
         }
     }
 
@@ -77,10 +66,7 @@ impl Object {
     #[inline]
     pub fn occludes(&self, ray: &Ray, t_max: Real, probe: &Probe) -> bool {
         match self {
-            Object::Sphere(sphere) => sphere.intersect(ray, t_max).is_some(),
-            Object::Moving(moving) => moving.at(probe.time).intersect(ray, t_max).is_some(),
-            Object::Quad(quad) => quad.intersect(ray, t_max).is_some(),
-            Object::Disc(disc) => disc.intersect(ray, t_max).is_some(),
+            Object::Shape(shape) => shape.intersects(ray, t_max, probe.time),
             Object::Mesh(mesh, _) => mesh.occludes(ray, t_max, probe.isa),
             Object::Instance(instance) => {
                 let local = instance.transform.inverse_ray(ray);
@@ -93,10 +79,7 @@ impl Object {
     /// The materials this object's surfaces use.
     pub fn materials(&self, out: &mut Vec<u32>) {
         match self {
-            Object::Sphere(s) => out.push(s.material),
-            Object::Moving(m) => out.push(m.material),
-            Object::Quad(q) => out.push(q.material),
-            Object::Disc(d) => out.push(d.material),
+            Object::Shape(shape) => out.push(shape.material()),
             Object::Mesh(_, material) => out.push(*material),
             Object::Instance(instance) => instance.group.objects().iter().for_each(|o| o.materials(out)),
             Object::Medium(medium) => out.push(medium.material),
@@ -108,19 +91,17 @@ impl Object {
         match self {
             Object::Mesh(mesh, _) => mesh.has_normals(),
             Object::Instance(instance) => instance.group.objects().iter().any(Object::has_shading_normals),
-            Object::Sphere(_) | Object::Moving(_) | Object::Quad(_) | Object::Disc(_) | Object::Medium(_) => {
-                false
-            }
+            Object::Shape(_) | Object::Medium(_) => false,
         }
     }
 
     /// Whether anything in it moves or is a medium: `(moves, media)`.
     pub fn needs(&self) -> (bool, bool) {
         match self {
-            Object::Moving(m) => (m.center0 != m.center1, false),
+            Object::Shape(shape) => (shape.moves(), false),
             Object::Medium(_) => (false, true),
             Object::Instance(instance) => instance.group.needs(),
-            Object::Sphere(_) | Object::Quad(_) | Object::Disc(_) | Object::Mesh(..) => (false, false),
+            Object::Mesh(..) => (false, false),
         }
     }
 }
@@ -167,12 +148,10 @@ impl Group {
                 bounds: object.bounds(),
                 centroid: object.centroid(),
                 kind: match object {
-                    Object::Quad(quad) => Kind::Quad(quad),
-                    Object::Sphere(_) => Kind::Sphere,
+                    Object::Shape(Shape::Quad(quad)) => Kind::Quad(quad),
+                    Object::Shape(Shape::Sphere(_)) => Kind::Sphere,
                     Object::Medium(_) => Kind::Medium,
-                    Object::Moving(_) | Object::Disc(_) | Object::Mesh(..) | Object::Instance(_) => {
-                        Kind::Other
-                    }
+                    Object::Shape(_) | Object::Mesh(..) | Object::Instance(_) => Kind::Other,
                 },
             })
             .collect();
@@ -185,18 +164,17 @@ impl Group {
         Group { uv: self.uv, ..Group::with_tree(self.objects, tree) }
     }
 
-    /// Makes texture coordinates only for the spheres and discs whose material `reads_uv`, here
-    /// and in the groups inside (a medium's boundary never: its hits are not shaded).
+    /// Makes texture coordinates only for the shapes that make them late ([`Shape::late_uv`]:
+    /// spheres, discs) and whose material `reads_uv`, here and in the groups inside (a
+    /// medium's boundary never: its hits are not shaded).
     pub fn keep_uv_for(&mut self, reads_uv: &dyn Fn(u32) -> bool) {
         self.uv = false;
         for object in &mut self.objects {
             match object {
-                Object::Sphere(sphere) => self.uv |= reads_uv(sphere.material),
-                Object::Moving(moving) => self.uv |= reads_uv(moving.material),
-                Object::Disc(disc) => self.uv |= reads_uv(disc.material),
+                Object::Shape(shape) => self.uv |= shape.late_uv() && reads_uv(shape.material()),
                 Object::Instance(instance) => instance.group.keep_uv_for(reads_uv),
                 Object::Medium(medium) => medium.boundary.keep_uv_for(&|_| false),
-                Object::Quad(_) | Object::Mesh(..) => {}
+                Object::Mesh(..) => {}
             }
         }
     }
@@ -269,21 +247,28 @@ impl WithLanes8 for Nearest<'_> {
                     best = Best::Quad(alpha, beta);
                 }
                 for i in run.spheres() {
-                    let Object::Sphere(sphere) = &group.objects[i] else { continue };
+                    let Object::Shape(Shape::Sphere(sphere)) = &group.objects[i] else { continue };
                     if let Some(t) = sphere.intersect(ray, closest.bound()) {
                         closest.offer(t, i as u32);
                         best = if closest.index == i as u32 { Best::Sphere } else { best };
                     }
                 }
-                run.others().for_each(|i| group.offer(i, ray, probe, closest, &mut best));
+                // A `for` loop: `for_each`'s `fold` was compiled out of line, a call per run.
+                for i in run.others() {
+                    group.offer(i, ray, probe, closest, &mut best);
+                }
             },
         );
         // Media last, when the nearest surface bounds how far they must look ([`Medium::hit`]
         // then rarely searches its boundary).
-        group.runs.media().for_each(|i| group.offer(i, ray, probe, &mut closest, &mut best));
+        for i in group.runs.media() {
+            group.offer(i, ray, probe, &mut closest, &mut best);
+        }
         match (best, group.objects.get(closest.index as usize)?) {
-            (Best::Quad(alpha, beta), Object::Quad(quad)) => Some(quad.hit_at(ray, closest.t, alpha, beta)),
-            (Best::Sphere, Object::Sphere(sphere)) => {
+            (Best::Quad(alpha, beta), Object::Shape(Shape::Quad(quad))) => {
+                Some(quad.hit_at(ray, closest.t, alpha, beta))
+            }
+            (Best::Sphere, Object::Shape(Shape::Sphere(sphere))) => {
                 let hit = sphere.hit_at(ray, closest.t);
                 Some(if group.uv { sphere.with_uv(hit) } else { hit })
             }
