@@ -2,6 +2,7 @@
 
 use raypool::scenes::builtin::{BUILTINS, builtin_scene};
 use raypool::scenes::format::SceneFile;
+use raypool::scenes::world::Shapes;
 use raypool::tracer::render::{RenderJob, RenderSettings, render_tile};
 use raypool::tracer::sampling::sobol::SobolStreams;
 use raypool::tracer::shading::material::Material;
@@ -71,7 +72,7 @@ fn final_scene_is_the_books_and_depends_on_its_seed() {
     let b = builtin_scene("final", 2).unwrap();
     assert_ne!(a, b);
     // 1 ground + up to 22 × 22 small + 3 big spheres; a few are skipped near the metal one.
-    assert!((450..=488).contains(&a.spheres.len()), "{} spheres", a.spheres.len());
+    assert!((450..=488).contains(&a.shapes.spheres.len()), "{} spheres", a.shapes.spheres.len());
     assert_eq!(builtin_scene("final", 1).unwrap(), a, "same seed, same scene");
 }
 
@@ -127,6 +128,36 @@ fn missing_and_unknown_fields_are_reported() {
         let e = error_of(&smallest.replace(&format!("{line}\n"), ""));
         assert!(e.starts_with(&format!("bad.toml:1:1: [camera] is missing field `{field}` (")), "{e}");
     }
+}
+
+#[test]
+fn every_shape_table_is_read_and_unknown_tables_are_refused_where_they_stand() {
+    // A scene file and a group are read by hand (`Shapes::read`), so each name the key check
+    // accepts must be one that is read: an empty list of each parses, at both levels.
+    let no_shapes = MINIMAL.split("[[sphere]]").next().unwrap();
+    for table in Shapes::TABLES {
+        let top = format!("{table} = []\n{no_shapes}");
+        SceneFile::parse(&top, "top.toml").unwrap_or_else(|e| panic!("{table}: {e}"));
+        let group = format!("{no_shapes}\n[[group]]\n{table} = []\n");
+        SceneFile::parse(&group, "group.toml").unwrap_or_else(|e| panic!("group.{table}: {e}"));
+    }
+    let line_of = |text: &str, needle: &str| text.lines().position(|l| l.contains(needle)).unwrap() + 1;
+    let text = format!("{MINIMAL}\n[[sphre]]\n");
+    let e = error_of(&text);
+    let at =
+        format!("bad.toml:{}:3: unknown field `sphre`, expected one of `camera`,", line_of(&text, "sphre"));
+    assert!(e.starts_with(&at) && e.contains("`disc`") && e.contains("`group`"), "{e}");
+    let text = format!("{MINIMAL}\n[[group]]\n[[group.sphre]]\n");
+    let e = error_of(&text);
+    let at = format!(
+        "bad.toml:{}:9: unknown field `sphre`, expected one of `transform`, `sphere`",
+        line_of(&text, "sphre")
+    );
+    assert!(e.starts_with(&at), "{e}");
+    // An error inside a shape's table keeps its place.
+    let text = MINIMAL.replace("radius = 1.0", "radius = \"one\"");
+    let e = error_of(&text);
+    assert!(e.starts_with(&format!("bad.toml:{}:10: invalid type: string", line_of(&text, "one"))), "{e}");
 }
 
 #[test]

@@ -94,7 +94,7 @@ fn a_moving_sphere_whose_ends_agree_renders_the_static_sphere_bit_for_bit() {
     // static one is a first-book scene: the two paths agree to the bit.
     let still = raypool::scenes::builtin::builtin_scene("three-spheres", 0).unwrap();
     let mut moving = still.clone();
-    moving.spheres[1].center1 = Some(moving.spheres[1].center);
+    moving.shapes.spheres[1].center1 = Some(moving.shapes.spheres[1].center);
     assert!(!still.to_scene().objects().iter().any(|_| true), "a first-book scene has no world");
     assert!(!moving.to_scene().is_first_book());
     let settings = RenderSettings { width: 30, height: 20, spp: 4, max_depth: 10, ..Default::default() };

@@ -246,7 +246,7 @@ pub fn section(
     let (width, height, rounds) = if quick { (300, 200, 7) } else { (600, 400, 21) };
     let mut file = builtin_scene("mesh", DEFAULT_SCENE_SEED).expect("mesh exists");
     if let Some(cells) = cells {
-        if let Some(GeneratedMesh::Terrain { cells: c, .. }) = file.meshes[0].generate.as_mut() {
+        if let Some(GeneratedMesh::Terrain { cells: c, .. }) = file.shapes.meshes[0].generate.as_mut() {
             *c = cells;
         }
     }

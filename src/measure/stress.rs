@@ -12,7 +12,8 @@
 use std::sync::Arc;
 
 use crate::files::image::Image;
-use crate::scenes::format::{BackgroundSpec, MaterialRef, MaterialSpec, SceneFile, SphereSpec};
+use crate::scenes::format::{BackgroundSpec, MaterialRef, MaterialSpec, SceneFile};
+use crate::scenes::world::SphereSpec;
 use crate::schedule::frame::Frame;
 use crate::schedule::modes::{Schedule, render};
 use crate::schedule::random::{RngChoice, RngSource};
@@ -135,7 +136,9 @@ fn camera(lookfrom: [f64; 3], lookat: [f64; 3], vfov: f64) -> CameraSettings {
 }
 
 fn under_white_sky(camera: CameraSettings, spheres: Vec<SphereSpec>) -> SceneFile {
-    SceneFile { spheres, ..SceneFile::new(camera, WHITE) }
+    let mut scene = SceneFile::new(camera, WHITE);
+    scene.shapes.spheres = spheres;
+    scene
 }
 
 /// The grey furnace sphere, scaled by `scale` and moved by `offset`.

@@ -7,11 +7,10 @@ use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
 
 use crate::error::Error;
-use crate::scenes::format::{
-    BackgroundSpec, BoxSpec, MaterialRef, MaterialSpec, MediumSpec, QuadSpec, SceneFile, SphereSpec,
-};
+use crate::scenes::format::{BackgroundSpec, MaterialRef, MaterialSpec, SceneFile};
 use crate::scenes::looks::{Ref, TextureSpec};
-use crate::scenes::world::{BoundarySpec, GroupSpec, TransformSpec};
+use crate::scenes::placement::TransformSpec;
+use crate::scenes::world::{BoundarySpec, BoxSpec, GroupSpec, MediumSpec, QuadSpec, Shapes, SphereSpec};
 use crate::tracer::camera::CameraSettings;
 
 /// The scene seed `final` uses unless told otherwise.
@@ -158,7 +157,9 @@ pub fn final_scene(scene_seed: u64) -> SceneFile {
         focus_dist: Some(10.0),
         aspect: 1.5,
     };
-    SceneFile { spheres, ..SceneFile::new(camera, BackgroundSpec::default()) }
+    let mut scene = SceneFile::new(camera, BackgroundSpec::default());
+    scene.shapes.spheres = spheres;
+    scene
 }
 
 /// The second book's bouncing spheres: the final scene with each diffuse sphere moving up by
@@ -166,13 +167,13 @@ pub fn final_scene(scene_seed: u64) -> SceneFile {
 pub fn bouncing_scene(scene_seed: u64) -> SceneFile {
     let mut scene = final_scene(scene_seed);
     let mut rng = SmallRng::seed_from_u64(scene_seed ^ 0x626F_756E_6365);
-    for s in &mut scene.spheres[1..] {
+    for s in &mut scene.shapes.spheres[1..] {
         if matches!(&s.material, MaterialRef::Inline(MaterialSpec::Lambertian { .. })) && s.radius < 1.0 {
             s.center1 = Some([s.center[0], round4(s.center[1] + 0.5 * rng.random::<f64>()), s.center[2]]);
         }
     }
     let checker = TextureSpec::Checker { scale: 0.32, even: [0.2, 0.3, 0.1], odd: [0.9, 0.9, 0.9] };
-    scene.spheres[0].material =
+    scene.shapes.spheres[0].material =
         MaterialRef::Inline(MaterialSpec::Lambertian { albedo: None, texture: Some(Ref::Inline(checker)) });
     scene
 }
@@ -203,11 +204,16 @@ pub fn next_week_scene(scene_seed: u64) -> SceneFile {
         for j in 0..20 {
             let (x0, z0) = (-1000.0 + i as f64 * 100.0, -1000.0 + j as f64 * 100.0);
             let max = [x0 + 100.0, rand(1.0, 101.0), z0 + 100.0];
-            scene.boxes.push(BoxSpec { min: [x0, 0.0, z0], max, material: named("ground"), transform: None });
+            scene.shapes.boxes.push(BoxSpec {
+                min: [x0, 0.0, z0],
+                max,
+                material: named("ground"),
+                transform: None,
+            });
         }
     }
     let light = MaterialSpec::DiffuseLight { emit: [7.0; 3], albedo: 0.0 };
-    scene.quads.push(QuadSpec {
+    scene.shapes.quads.push(QuadSpec {
         q: [123.0, 554.0, 147.0],
         u: [300.0, 0.0, 0.0],
         v: [0.0, 0.0, 265.0],
@@ -219,30 +225,34 @@ pub fn next_week_scene(scene_seed: u64) -> SceneFile {
         material,
         center1: None,
     };
-    scene.spheres.push(SphereSpec {
+    scene.shapes.spheres.push(SphereSpec {
         center1: Some([430.0, 400.0, 200.0]),
         ..sphere([400.0, 400.0, 200.0], 50.0, inline(MaterialSpec::lambertian([0.7, 0.3, 0.1])))
     });
-    scene.spheres.push(sphere([260.0, 150.0, 45.0], 50.0, named("glass")));
-    scene.spheres.push(sphere(
+    scene.shapes.spheres.push(sphere([260.0, 150.0, 45.0], 50.0, named("glass")));
+    scene.shapes.spheres.push(sphere(
         [0.0, 150.0, 145.0],
         50.0,
         inline(MaterialSpec::Metal { albedo: [0.8, 0.8, 0.9], fuzz: 1.0 }),
     ));
-    scene.spheres.push(sphere([360.0, 150.0, 145.0], 70.0, named("glass")));
+    scene.shapes.spheres.push(sphere([360.0, 150.0, 145.0], 70.0, named("glass")));
     let fog = |center: [f64; 3], radius: f64, density: f64, albedo: [f64; 3]| MediumSpec {
         density,
         albedo,
         boundary: BoundarySpec::Sphere { center, radius },
         transform: None,
     };
-    scene.media.push(fog([360.0, 150.0, 145.0], 70.0, 0.2, [0.2, 0.4, 0.9]));
-    scene.media.push(fog([0.0; 3], 5000.0, 0.0001, [1.0; 3]));
+    scene.shapes.media.push(fog([360.0, 150.0, 145.0], 70.0, 0.2, [0.2, 0.4, 0.9]));
+    scene.shapes.media.push(fog([0.0; 3], 5000.0, 0.0001, [1.0; 3]));
     let textured =
         |texture| inline(MaterialSpec::Lambertian { albedo: None, texture: Some(Ref::Inline(texture)) });
     let planet = TextureSpec::Image { path: None, builtin: Some("planet".into()) };
-    scene.spheres.push(sphere([400.0, 200.0, 400.0], 100.0, textured(planet)));
-    scene.spheres.push(sphere([220.0, 280.0, 300.0], 80.0, textured(TextureSpec::Noise { scale: 0.2 })));
+    scene.shapes.spheres.push(sphere([400.0, 200.0, 400.0], 100.0, textured(planet)));
+    scene.shapes.spheres.push(sphere(
+        [220.0, 280.0, 300.0],
+        80.0,
+        textured(TextureSpec::Noise { scale: 0.2 }),
+    ));
     let small = (0..1000)
         .map(|_| sphere([rand(0.0, 165.0), rand(0.0, 165.0), rand(0.0, 165.0)], 10.0, named("white")));
     scene.groups.push(GroupSpec {
@@ -251,8 +261,7 @@ pub fn next_week_scene(scene_seed: u64) -> SceneFile {
             translate: [-100.0, 270.0, 395.0],
             ..Default::default()
         }),
-        spheres: small.collect(),
-        ..Default::default()
+        shapes: Shapes { spheres: small.collect(), ..Default::default() },
     });
     scene
 }

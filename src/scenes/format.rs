@@ -33,67 +33,84 @@
 //! accepts but a renderer cannot use (NaN, zero radius, a camera looking nowhere…).
 
 use std::collections::BTreeMap;
+use std::fmt;
 use std::io::Read;
 use std::path::Path;
 
 use glam::DVec3;
-use serde::{Deserialize, Serialize};
+use serde::de::{self, MapAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::error::{Error, io_reason};
 use crate::scenes::assets::{Assets, BUILTIN_IMAGES};
 use crate::scenes::checks::{REAL, check, colour, finite3, representable};
 use crate::scenes::looks::{Looks, Ref, Tables, TextureSpec, check_texture};
-use crate::scenes::world::{GroupSpec, MeshSpec, Shapes, placed};
+use crate::scenes::placement::placed;
+use crate::scenes::world::{GroupSpec, Key, MeshSpec, Shapes};
 use crate::tracer::camera::CameraSettings;
 use crate::tracer::math::real::vec3;
 use crate::tracer::scene::Scene;
 use crate::tracer::shading::background::Background;
 
 pub use crate::scenes::looks::{MaterialRef, MaterialSpec};
-pub use crate::scenes::world::{BoxSpec, DiscSpec, MediumSpec, QuadSpec, SphereSpec, TriangleSpec};
 
 /// A whole scene file.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SceneFile {
     /// The camera block.
     pub camera: CameraSettings,
     /// The background block (the book's gradient when absent).
-    #[serde(default)]
     pub background: BackgroundSpec,
     /// Named materials that shapes may refer to.
-    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub materials: BTreeMap<String, MaterialSpec>,
     /// Named textures that materials may refer to.
-    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub textures: BTreeMap<String, TextureSpec>,
-    /// The spheres, one `[[sphere]]` table each.
-    #[serde(default, rename = "sphere", skip_serializing_if = "Vec::is_empty")]
-    pub spheres: Vec<SphereSpec>,
-    /// `[[quad]]` tables.
-    #[serde(default, rename = "quad", skip_serializing_if = "Vec::is_empty")]
-    pub quads: Vec<QuadSpec>,
-    /// `[[disc]]` tables.
-    #[serde(default, rename = "disc", skip_serializing_if = "Vec::is_empty")]
-    pub discs: Vec<DiscSpec>,
-    /// `[[box]]` tables.
-    #[serde(default, rename = "box", skip_serializing_if = "Vec::is_empty")]
-    pub boxes: Vec<BoxSpec>,
-    /// `[[triangle]]` tables.
-    #[serde(default, rename = "triangle", skip_serializing_if = "Vec::is_empty")]
-    pub triangles: Vec<TriangleSpec>,
-    /// `[[mesh]]` tables.
-    #[serde(default, rename = "mesh", skip_serializing_if = "Vec::is_empty")]
-    pub meshes: Vec<MeshSpec>,
-    /// `[[medium]]` tables.
-    #[serde(default, rename = "medium", skip_serializing_if = "Vec::is_empty")]
-    pub media: Vec<MediumSpec>,
+    /// Its shapes: `[[sphere]]`, `[[quad]]`, … tables.
+    #[serde(flatten)]
+    pub shapes: Shapes,
     /// `[[group]]` tables: shapes placed together (instances).
-    #[serde(default, rename = "group", skip_serializing_if = "Vec::is_empty")]
+    #[serde(rename = "group", skip_serializing_if = "Vec::is_empty")]
     pub groups: Vec<GroupSpec>,
     /// The files it names, loaded ([`SceneFile::read`]); not part of what it says.
     #[serde(skip)]
     pub assets: Loaded,
+}
+
+impl<'de> Deserialize<'de> for SceneFile {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<SceneFile, D::Error> {
+        deserializer.deserialize_map(SceneVisitor)
+    }
+}
+
+/// Reads a scene file: its own blocks, and its shapes' tables ([`Shapes`]).
+struct SceneVisitor;
+
+impl<'de> Visitor<'de> for SceneVisitor {
+    type Value = SceneFile;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a scene file")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<SceneFile, A::Error> {
+        const KEYS: &[&str] = &["camera", "background", "materials", "textures", "group"];
+        let mut camera = None;
+        let (mut background, mut materials, mut textures, mut shapes, mut groups) = Default::default();
+        while let Some(key) = map.next_key_seed(Key(KEYS))? {
+            match key.as_str() {
+                "camera" => camera = Some(map.next_value()?),
+                "background" => background = map.next_value()?,
+                "materials" => materials = map.next_value()?,
+                "textures" => textures = map.next_value()?,
+                "group" => groups = map.next_value()?,
+                table => Shapes::read(&mut shapes, table, &mut map)?,
+            }
+        }
+        let camera = camera.ok_or_else(|| de::Error::missing_field("camera"))?;
+        Ok(SceneFile { camera, background, materials, textures, shapes, groups, assets: Loaded::default() })
+    }
 }
 
 /// What a scene file's named files became. Equal for any two scenes: they are fixed by the
@@ -199,42 +216,15 @@ impl SceneFile {
             background,
             materials: BTreeMap::new(),
             textures: BTreeMap::new(),
-            spheres: Vec::new(),
-            quads: Vec::new(),
-            discs: Vec::new(),
-            boxes: Vec::new(),
-            triangles: Vec::new(),
-            meshes: Vec::new(),
-            media: Vec::new(),
+            shapes: Shapes::default(),
             groups: Vec::new(),
             assets: Loaded::default(),
         }
     }
 
-    /// The top level's shape lists (every field named, so that a new one is a compile error
-    /// here).
-    pub fn shapes(&self) -> Shapes<'_> {
-        let SceneFile {
-            camera: _,
-            background: _,
-            materials: _,
-            textures: _,
-            spheres,
-            quads,
-            discs,
-            boxes,
-            triangles,
-            meshes,
-            media,
-            groups: _,
-            assets: _,
-        } = self;
-        Shapes { spheres, quads, discs, boxes, triangles, meshes, media }
-    }
-
     /// Every shape list: the top level's, then each group's.
-    fn all_shapes(&self) -> impl Iterator<Item = Shapes<'_>> {
-        std::iter::once(self.shapes()).chain(self.groups.iter().map(GroupSpec::shapes))
+    fn all_shapes(&self) -> impl Iterator<Item = &Shapes> {
+        std::iter::once(&self.shapes).chain(self.groups.iter().map(|group| &group.shapes))
     }
 
     /// The scene as TOML text that [`SceneFile::parse`] reads back to an equal value.
@@ -243,9 +233,10 @@ impl SceneFile {
     /// each with its material inline, rather than as `toml`'s default `[sphere.material]`
     /// sub-tables, which would double the length of a 480-sphere scene.
     pub fn to_toml(&self) -> String {
-        let head = SceneFile { spheres: Vec::new(), ..self.clone() };
+        let mut head = self.clone();
+        head.shapes.spheres.clear();
         let mut text = toml::to_string(&head).expect("scene files always serialise");
-        for s in &self.spheres {
+        for s in &self.shapes.spheres {
             text += &format!(
                 "\n[[sphere]]\ncenter = {}\nradius = {}\nmaterial = {}\n",
                 inline(&s.center),
@@ -304,12 +295,12 @@ impl SceneFile {
         for (name, m) in &self.materials {
             looks.check_material_spec(m).map_err(|e| format!("materials.{name}: {e}"))?;
         }
-        self.shapes().check(&looks, "")?;
+        self.shapes.check(&looks, "")?;
         for (i, g) in self.groups.iter().enumerate() {
             if let Some(transform) = &g.transform {
                 transform.check().map_err(|e| format!("group #{}: {e}", i + 1))?;
             }
-            g.shapes().check(&looks, &format!("group #{} ", i + 1))?;
+            g.shapes.check(&looks, &format!("group #{} ", i + 1))?;
         }
         for (builtin, _) in self.image_sources().filter_map(|(p, b)| b.map(|b| (b, p))) {
             check(BUILTIN_IMAGES.contains(&builtin), || {
@@ -355,9 +346,9 @@ impl SceneFile {
         let mut tables = Tables::default();
         let mut media = 0;
         let assets = &self.assets.0;
-        let (spheres, mut objects) = self.shapes().build(&looks, assets, &mut tables, &mut media);
+        let (spheres, mut objects) = self.shapes.build(&looks, assets, &mut tables, &mut media);
         for g in &self.groups {
-            let (inner_spheres, inner) = g.shapes().build(&looks, assets, &mut tables, &mut media);
+            let (inner_spheres, inner) = g.shapes.build(&looks, assets, &mut tables, &mut media);
             let inner =
                 inner_spheres.into_iter().map(crate::tracer::world::object::Object::shape).chain(inner);
             objects.extend(placed(inner.collect(), g.transform.as_ref()));

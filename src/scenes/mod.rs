@@ -8,6 +8,7 @@
 
 pub mod checks;
 pub mod looks;
+pub mod placement;
 pub mod world;
 mod shape_checks;
 pub mod assets;

@@ -5,15 +5,16 @@
 
 use crate::scenes::checks::{REAL, check, colour, finite3, representable};
 use crate::scenes::looks::Looks;
-use crate::scenes::world::{BoundarySpec, Shapes, TransformSpec};
+use crate::scenes::placement::TransformSpec;
+use crate::scenes::world::{BoundarySpec, Shapes};
 use crate::tracer::geometry::disc::Disc;
 use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::triangle;
 use crate::tracer::math::real::{Real, vec3};
 
-impl Shapes<'_> {
+impl Shapes {
     /// Checks every shape; `at` names where they are (`""` or `"group #2 "`).
-    pub fn check(self, looks: &Looks, at: &str) -> Result<(), String> {
+    pub fn check(&self, looks: &Looks, at: &str) -> Result<(), String> {
         let Shapes { spheres, quads, discs, boxes, triangles, meshes, media } = self;
         for (i, s) in spheres.iter().enumerate() {
             let name = format!("{at}sphere #{} (center {:?})", i + 1, s.center);

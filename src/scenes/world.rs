@@ -1,7 +1,8 @@
-//! The second book's shapes as a scene file writes them: `[[quad]]`, `[[box]]`, pbrt's
-//! `[[disc]]`, `[[triangle]]`, `[[mesh]]`, `[[medium]]` and `[[group]]` (objects placed together
-//! by one transform, the scene file's instances), and the objects they become (their checks are
-//! `shape_checks.rs`).
+//! The second book's shapes as a scene file writes them: `[[sphere]]`, `[[quad]]`, `[[box]]`,
+//! pbrt's `[[disc]]`, `[[triangle]]`, `[[mesh]]`, `[[medium]]`, each also inside a `[[group]]`
+//! (objects placed together by one transform, the scene file's instances: `placement.rs`);
+//! how a table of them is read ([`Shapes::read`]), and the objects they become (their checks
+//! are `shape_checks.rs`).
 //!
 //! ```toml
 //! [[quad]]
@@ -32,20 +33,21 @@
 //! material = "white"
 //! ```
 
-use serde::{Deserialize, Serialize};
+use std::fmt;
+
+use serde::de::{self, DeserializeSeed, MapAccess, Visitor};
+use serde::{Deserialize, Deserializer, Serialize};
 
 use crate::scenes::assets::{Assets, GeneratedMesh};
-use crate::scenes::checks::{REAL, check, finite3, representable};
 use crate::scenes::looks::{Looks, MaterialRef, Tables};
+use crate::scenes::placement::{TransformSpec, placed};
 use crate::tracer::geometry::disc::Disc;
 use crate::tracer::geometry::moving::MovingSphere;
 use crate::tracer::geometry::quad::{Quad, box_faces};
 use crate::tracer::geometry::sphere::Sphere;
 use crate::tracer::math::real::{Real, Vec3, vec3};
-use crate::tracer::math::transform::Transform;
 use crate::tracer::shading::material::Material;
 use crate::tracer::world::object::Group;
-use crate::tracer::world::object::Instance;
 use crate::tracer::world::object::Medium;
 use crate::tracer::world::object::Object;
 
@@ -172,113 +174,119 @@ pub enum BoundarySpec {
     },
 }
 
-/// A rigid placement: rotations about x, then y, then z (degrees), then a translation.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct TransformSpec {
-    /// Degrees about x.
-    #[serde(default, skip_serializing_if = "is_zero")]
-    pub rotate_x: f64,
-    /// Degrees about y (the books' `rotate_y`).
-    #[serde(default, skip_serializing_if = "is_zero")]
-    pub rotate_y: f64,
-    /// Degrees about z.
-    #[serde(default, skip_serializing_if = "is_zero")]
-    pub rotate_z: f64,
-    /// Moved by this, last.
-    #[serde(default, skip_serializing_if = "is_origin")]
-    pub translate: [f64; 3],
-}
-
-fn is_zero(x: &f64) -> bool {
-    *x == 0.0
-}
-
-fn is_origin(v: &[f64; 3]) -> bool {
-    *v == [0.0; 3]
-}
-
 /// One `[[group]]`: objects placed together by one transform (one instance). Its shapes are
 /// written as at the top level, `[[group.sphere]]` and so on (no nested groups).
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct GroupSpec {
     /// Where the group is placed.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub transform: Option<TransformSpec>,
-    /// `[[group.sphere]]` tables.
-    #[serde(default, rename = "sphere", skip_serializing_if = "Vec::is_empty")]
+    /// Its shape tables.
+    #[serde(flatten)]
+    pub shapes: Shapes,
+}
+
+impl<'de> Deserialize<'de> for GroupSpec {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<GroupSpec, D::Error> {
+        deserializer.deserialize_map(GroupVisitor)
+    }
+}
+
+/// Reads a `[[group]]`: its transform, and its shapes' tables ([`Shapes::read`]).
+struct GroupVisitor;
+
+impl<'de> Visitor<'de> for GroupVisitor {
+    type Value = GroupSpec;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a [[group]] table")
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<GroupSpec, A::Error> {
+        let mut group = GroupSpec::default();
+        while let Some(key) = map.next_key_seed(Key(&["transform"]))? {
+            match key.as_str() {
+                "transform" => group.transform = Some(map.next_value()?),
+                table => group.shapes.read(table, &mut map)?,
+            }
+        }
+        Ok(group)
+    }
+}
+
+/// The shapes a scene file or a group holds, a list per kind, each read from the tables of
+/// its name ([`Shapes::TABLES`]). The checks (`shape_checks.rs`) and the build name every
+/// list (no `..`), so a new shape's list is a compile error in each.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Shapes {
+    /// `[[sphere]]` tables.
+    #[serde(rename = "sphere", skip_serializing_if = "Vec::is_empty")]
     pub spheres: Vec<SphereSpec>,
-    /// `[[group.quad]]` tables.
-    #[serde(default, rename = "quad", skip_serializing_if = "Vec::is_empty")]
+    /// `[[quad]]` tables.
+    #[serde(rename = "quad", skip_serializing_if = "Vec::is_empty")]
     pub quads: Vec<QuadSpec>,
-    /// `[[group.disc]]` tables.
-    #[serde(default, rename = "disc", skip_serializing_if = "Vec::is_empty")]
+    /// `[[disc]]` tables.
+    #[serde(rename = "disc", skip_serializing_if = "Vec::is_empty")]
     pub discs: Vec<DiscSpec>,
-    /// `[[group.box]]` tables.
-    #[serde(default, rename = "box", skip_serializing_if = "Vec::is_empty")]
+    /// `[[box]]` tables.
+    #[serde(rename = "box", skip_serializing_if = "Vec::is_empty")]
     pub boxes: Vec<BoxSpec>,
-    /// `[[group.triangle]]` tables.
-    #[serde(default, rename = "triangle", skip_serializing_if = "Vec::is_empty")]
+    /// `[[triangle]]` tables.
+    #[serde(rename = "triangle", skip_serializing_if = "Vec::is_empty")]
     pub triangles: Vec<TriangleSpec>,
-    /// `[[group.mesh]]` tables.
-    #[serde(default, rename = "mesh", skip_serializing_if = "Vec::is_empty")]
+    /// `[[mesh]]` tables.
+    #[serde(rename = "mesh", skip_serializing_if = "Vec::is_empty")]
     pub meshes: Vec<MeshSpec>,
-    /// `[[group.medium]]` tables.
-    #[serde(default, rename = "medium", skip_serializing_if = "Vec::is_empty")]
+    /// `[[medium]]` tables.
+    #[serde(rename = "medium", skip_serializing_if = "Vec::is_empty")]
     pub media: Vec<MediumSpec>,
 }
 
-impl GroupSpec {
-    /// Its shape lists (every field named, so that a new one is a compile error here).
-    pub fn shapes(&self) -> Shapes<'_> {
-        let GroupSpec { transform: _, spheres, quads, discs, boxes, triangles, meshes, media } = self;
-        Shapes { spheres, quads, discs, boxes, triangles, meshes, media }
+impl Shapes {
+    /// The names of the shape tables, as a scene file writes them.
+    pub const TABLES: [&str; 7] = ["sphere", "quad", "disc", "box", "triangle", "mesh", "medium"];
+
+    /// Reads the list of table `name` (one of [`Shapes::TABLES`]) as `map`'s next value.
+    pub fn read<'de, A: MapAccess<'de>>(&mut self, name: &str, map: &mut A) -> Result<(), A::Error> {
+        // Every list named (no `..`): a new one left unread is an unused variable.
+        let Shapes { spheres, quads, discs, boxes, triangles, meshes, media } = self;
+        match name {
+            "sphere" => *spheres = map.next_value()?,
+            "quad" => *quads = map.next_value()?,
+            "disc" => *discs = map.next_value()?,
+            "box" => *boxes = map.next_value()?,
+            "triangle" => *triangles = map.next_value()?,
+            "mesh" => *meshes = map.next_value()?,
+            "medium" => *media = map.next_value()?,
+            _ => return Err(de::Error::unknown_field(name, &Shapes::TABLES)),
+        }
+        Ok(())
     }
 }
 
-/// The lists of shapes a scene or a group holds, as the checks and the build read them. Each
-/// of those names every list (no `..`), so a new shape's list is a compile error in each.
-#[derive(Clone, Copy, Debug)]
-pub struct Shapes<'a> {
-    /// `[[sphere]]` tables.
-    pub spheres: &'a [SphereSpec],
-    /// `[[quad]]` tables.
-    pub quads: &'a [QuadSpec],
-    /// `[[disc]]` tables.
-    pub discs: &'a [DiscSpec],
-    /// `[[box]]` tables.
-    pub boxes: &'a [BoxSpec],
-    /// `[[triangle]]` tables.
-    pub triangles: &'a [TriangleSpec],
-    /// `[[mesh]]` tables.
-    pub meshes: &'a [MeshSpec],
-    /// `[[medium]]` tables.
-    pub media: &'a [MediumSpec],
-}
+/// A key of a table that holds shapes (a scene file, a `[[group]]`): one of its own keys or a
+/// shape's table ([`Shapes::TABLES`]), else refused where it stands, naming the keys expected.
+/// (Not serde's `flatten` of [`Shapes`]: it would report every error inside a shape at `1:1`.)
+pub struct Key(pub &'static [&'static str]);
 
-impl TransformSpec {
-    /// Every angle and offset finite.
-    pub fn check(&self) -> Result<(), String> {
-        let angles = [self.rotate_x, self.rotate_y, self.rotate_z];
-        check(angles.iter().all(|&a| representable(a)) && finite3(self.translate), || {
-            format!("transform must be finite numbers (as {REAL}), got {self:?}")
-        })
-    }
+impl<'de> DeserializeSeed<'de> for Key {
+    type Value = String;
 
-    /// The tracer's transform.
-    pub fn to_transform(&self) -> Transform {
-        Transform::rotate_x(self.rotate_x)
-            .then(&Transform::rotate_y(self.rotate_y))
-            .then(&Transform::rotate_z(self.rotate_z))
-            .then_translate(vec3(self.translate))
+    fn deserialize<D: Deserializer<'de>>(self, deserializer: D) -> Result<String, D::Error> {
+        let key = String::deserialize(deserializer)?;
+        let mut known = self.0.iter().chain(&Shapes::TABLES);
+        if known.clone().any(|k| *k == key) {
+            return Ok(key);
+        }
+        let expected: Vec<String> = known.by_ref().map(|k| format!("`{k}`")).collect();
+        Err(de::Error::custom(format!("unknown field `{key}`, expected one of {}", expected.join(", "))))
     }
 }
 
-impl<'a> Shapes<'a> {
+impl Shapes {
     /// Every shape's material reference, in order (a medium has none: its phase function is
     /// made from its albedo).
-    pub fn material_refs(self) -> impl Iterator<Item = &'a MaterialRef> {
+    pub fn material_refs(&self) -> impl Iterator<Item = &MaterialRef> {
         let Shapes { spheres, quads, discs, boxes, triangles, meshes, media: _ } = self;
         let s = spheres.iter().map(|x| &x.material);
         let q = quads.iter().map(|x| &x.material).chain(discs.iter().map(|x| &x.material));
@@ -290,7 +298,7 @@ impl<'a> Shapes<'a> {
     /// The (checked) shapes as static spheres and objects, their materials added to `tables`;
     /// `made` counts the media made so far (each gets its own id).
     pub fn build(
-        self,
+        &self,
         looks: &Looks,
         assets: &Assets,
         tables: &mut Tables,
@@ -369,14 +377,4 @@ impl<'a> Shapes<'a> {
 fn box_objects(min: [f64; 3], max: [f64; 3], material: u32) -> Vec<Object> {
     let faces = box_faces(vec3(min), vec3(max), material).expect("checked: a box of some volume");
     faces.into_iter().map(Object::shape).collect()
-}
-
-/// `objects` placed by `transform` as one instance (as they are, without one).
-pub fn placed(objects: Vec<Object>, transform: Option<&TransformSpec>) -> Vec<Object> {
-    match transform.map(TransformSpec::to_transform) {
-        Some(t) if !t.is_identity() => {
-            vec![Object::Instance(Box::new(Instance::new(t, Group::new(objects))))]
-        }
-        _ => objects,
-    }
 }
