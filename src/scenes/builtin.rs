@@ -7,10 +7,11 @@ use rand::rngs::SmallRng;
 use rand::{RngExt, SeedableRng};
 
 use crate::error::Error;
+use crate::scenes::composites::{BoundarySpec, BoxSpec, MediumSpec};
 use crate::scenes::format::{BackgroundSpec, MaterialRef, MaterialSpec, SceneFile};
 use crate::scenes::looks::{Ref, TextureSpec};
 use crate::scenes::placement::TransformSpec;
-use crate::scenes::world::{BoundarySpec, BoxSpec, GroupSpec, MediumSpec, QuadSpec, Shapes, SphereSpec};
+use crate::scenes::world::{GroupSpec, QuadSpec, Shapes, SphereSpec};
 use crate::tracer::camera::CameraSettings;
 
 /// The scene seed `final` uses unless told otherwise.

@@ -9,8 +9,8 @@
 pub mod checks;
 pub mod looks;
 pub mod placement;
-pub mod world;
-mod shape_checks;
 pub mod assets;
+pub mod composites;
+pub mod world;
 pub mod format;
 pub mod builtin;

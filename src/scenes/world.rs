@@ -1,8 +1,9 @@
 //! The second book's shapes as a scene file writes them: `[[sphere]]`, `[[quad]]`, `[[box]]`,
 //! pbrt's `[[disc]]`, `[[triangle]]`, `[[mesh]]`, `[[medium]]`, each also inside a `[[group]]`
 //! (objects placed together by one transform, the scene file's instances: `placement.rs`);
-//! how a table of them is read ([`Shapes::read`]), and the objects they become (their checks
-//! are `shape_checks.rs`).
+//! how a table of them is read ([`Shapes::read`]), what they must hold ([`Shapes::check`]) and
+//! the objects they become. The simple shapes' specs are here; those the format makes of other
+//! objects (boxes, loose triangles, meshes, media) are `composites.rs`.
 //!
 //! ```toml
 //! [[quad]]
@@ -38,17 +39,16 @@ use std::fmt;
 use serde::de::{self, DeserializeSeed, MapAccess, Visitor};
 use serde::{Deserialize, Deserializer, Serialize};
 
-use crate::scenes::assets::{Assets, GeneratedMesh};
+use crate::scenes::assets::Assets;
+use crate::scenes::checks::{REAL, check, finite3, representable};
+use crate::scenes::composites::{BoxSpec, MediumSpec, MeshSpec, TriangleSpec, triangle_meshes};
 use crate::scenes::looks::{Looks, MaterialRef, Tables};
-use crate::scenes::placement::{TransformSpec, placed};
+use crate::scenes::placement::TransformSpec;
 use crate::tracer::geometry::disc::Disc;
 use crate::tracer::geometry::moving::MovingSphere;
-use crate::tracer::geometry::quad::{Quad, box_faces};
+use crate::tracer::geometry::quad::Quad;
 use crate::tracer::geometry::sphere::Sphere;
-use crate::tracer::math::real::{Real, Vec3, vec3};
-use crate::tracer::shading::material::Material;
-use crate::tracer::world::object::Group;
-use crate::tracer::world::object::Medium;
+use crate::tracer::math::real::{Real, vec3};
 use crate::tracer::world::object::Object;
 
 /// One `[[sphere]]` table.
@@ -94,86 +94,6 @@ pub struct DiscSpec {
     pub material: MaterialRef,
 }
 
-/// One `[[box]]`: six quads between two opposite corners, optionally placed.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BoxSpec {
-    /// One corner.
-    pub min: [f64; 3],
-    /// The opposite corner.
-    pub max: [f64; 3],
-    /// Its material.
-    pub material: MaterialRef,
-    /// Where it is placed (as an instance).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub transform: Option<TransformSpec>,
-}
-
-/// One `[[triangle]]`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct TriangleSpec {
-    /// Its three corners, counter-clockwise seen from its front.
-    pub vertices: [[f64; 3]; 3],
-    /// Its material.
-    pub material: MaterialRef,
-}
-
-/// One `[[mesh]]`: a Wavefront OBJ file beside the scene file, or a mesh raypool generates.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MeshSpec {
-    /// The OBJ file, relative to the scene file's folder and inside it.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub obj: Option<String>,
-    /// A generated mesh instead of a file.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub generate: Option<GeneratedMesh>,
-    /// Multiplies every vertex when the mesh is loaded (default 1).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub scale: Option<f64>,
-    /// Its material.
-    pub material: MaterialRef,
-    /// Where it is placed (as an instance).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub transform: Option<TransformSpec>,
-}
-
-/// One `[[medium]]`: fog or smoke of constant density inside a closed boundary.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MediumSpec {
-    /// Scattering events per unit length, ≥ 0.
-    pub density: f64,
-    /// Fraction scattered per channel (the rest absorbed), each ≥ 0.
-    pub albedo: [f64; 3],
-    /// The closed surface it fills.
-    pub boundary: BoundarySpec,
-    /// Where it is placed (as an instance).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub transform: Option<TransformSpec>,
-}
-
-/// A medium's boundary.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
-pub enum BoundarySpec {
-    /// A sphere.
-    Sphere {
-        /// Centre.
-        center: [f64; 3],
-        /// Radius, > 0.
-        radius: f64,
-    },
-    /// A box.
-    Box {
-        /// One corner.
-        min: [f64; 3],
-        /// The opposite corner.
-        max: [f64; 3],
-    },
-}
-
 /// One `[[group]]`: objects placed together by one transform (one instance). Its shapes are
 /// written as at the top level, `[[group.sphere]]` and so on (no nested groups).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -215,7 +135,7 @@ impl<'de> Visitor<'de> for GroupVisitor {
 }
 
 /// The shapes a scene file or a group holds, a list per kind, each read from the tables of
-/// its name ([`Shapes::TABLES`]). The checks (`shape_checks.rs`) and the build name every
+/// its name ([`Shapes::TABLES`]). The reading, the checks and the build name every
 /// list (no `..`), so a new shape's list is a compile error in each.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Shapes {
@@ -330,51 +250,72 @@ impl Shapes {
             objects.push(Object::shape(disc.expect("checked: not degenerate")));
         }
         for b in boxes {
-            let faces = box_objects(b.min, b.max, material(&b.material));
-            objects.extend(placed(faces, b.transform.as_ref()));
+            objects.extend(b.objects(material(&b.material)));
         }
-        if !triangles.is_empty() {
-            // Loose triangles: one mesh per material, in the order written.
-            let mut by_material: Vec<(u32, Vec<Vec3>)> = Vec::new();
-            for t in triangles {
-                let m = material(&t.material);
-                let at = by_material.iter().position(|(k, _)| *k == m).unwrap_or_else(|| {
-                    by_material.push((m, Vec::new()));
-                    by_material.len() - 1
-                });
-                by_material[at].1.extend(t.vertices.map(vec3));
-            }
-            for (m, corners) in by_material {
-                objects.push(Object::Mesh(std::sync::Arc::new(assets.soup(corners)), m));
-            }
-        }
+        objects.extend(triangle_meshes(triangles, &mut material, assets));
         for m in meshes {
-            let mesh = assets.mesh(m.obj.as_deref(), m.generate.as_ref(), m.scale);
-            let object = Object::Mesh(mesh, material(&m.material));
-            objects.extend(placed(vec![object], m.transform.as_ref()));
+            objects.extend(m.objects(assets, material(&m.material)));
         }
         for m in media {
-            let boundary = match m.boundary {
-                BoundarySpec::Sphere { center, radius } => {
-                    vec![Object::shape(Sphere { center: vec3(center), radius: radius as Real, material: 0 })]
-                }
-                BoundarySpec::Box { min, max } => box_objects(min, max, 0),
-            };
-            let phase = tables.push(Material::Isotropic { albedo: vec3(m.albedo) });
-            let medium = Medium {
-                boundary: Group::new(boundary),
-                density: m.density as Real,
-                material: phase,
-                id: *made,
-            };
-            *made += 1;
-            objects.extend(placed(vec![Object::Medium(Box::new(medium))], m.transform.as_ref()));
+            objects.extend(m.objects(tables, made));
         }
         (still, objects)
     }
+
+    /// Checks every shape: what TOML accepts but a renderer cannot use (numbers that are not
+    /// finite, a zero radius, a degenerate quad, disc, triangle or box), each refused with a
+    /// message naming the shape; `at` names where they are (`""` or `"group #2 "`).
+    pub fn check(&self, looks: &Looks, at: &str) -> Result<(), String> {
+        let Shapes { spheres, quads, discs, boxes, triangles, meshes, media } = self;
+        for (i, s) in spheres.iter().enumerate() {
+            let name = format!("{at}sphere #{} (center {:?})", i + 1, s.center);
+            check(finite3(s.center), || format!("{at}sphere #{}: center must be finite numbers", i + 1))?;
+            check(representable(s.radius) && s.radius != 0.0, || {
+                format!("{name}: radius must be finite (as {REAL}) and non-zero, got {}", s.radius)
+            })?;
+            check(s.center1.is_none_or(finite3), || format!("{name}: center1 must be finite numbers"))?;
+            looks.check_material(&s.material).map_err(|e| format!("{name}: {e}"))?;
+        }
+        for (i, q) in quads.iter().enumerate() {
+            let name = format!("{at}quad #{}", i + 1);
+            check(finite3(q.q) && finite3(q.u) && finite3(q.v), || {
+                format!("{name}: q, u, v must be finite numbers")
+            })?;
+            check(Quad::new(vec3(q.q), vec3(q.u), vec3(q.v), 0).is_some(), || {
+                format!("{name}: degenerate (u = {:?} and v = {:?} span no area)", q.u, q.v)
+            })?;
+            looks.check_material(&q.material).map_err(|e| format!("{name}: {e}"))?;
+        }
+        for (i, d) in discs.iter().enumerate() {
+            let name = format!("{at}disc #{}", i + 1);
+            check(finite3(d.center) && finite3(d.normal), || {
+                format!("{name}: center, normal must be finite numbers")
+            })?;
+            check(Disc::new(vec3(d.center), vec3(d.normal), d.radius as Real, 0).is_some(), || {
+                format!(
+                    "{name}: degenerate (normal {:?}, radius {}: needs a normal and a radius > 0)",
+                    d.normal, d.radius
+                )
+            })?;
+            looks.check_material(&d.material).map_err(|e| format!("{name}: {e}"))?;
+        }
+        for (i, b) in boxes.iter().enumerate() {
+            b.check().and_then(|()| looks.check_material(&b.material)).map_err(named(at, "box", i))?;
+        }
+        for (i, t) in triangles.iter().enumerate() {
+            t.check().and_then(|()| looks.check_material(&t.material)).map_err(named(at, "triangle", i))?;
+        }
+        for (i, m) in meshes.iter().enumerate() {
+            m.check().and_then(|()| looks.check_material(&m.material)).map_err(named(at, "mesh", i))?;
+        }
+        for (i, m) in media.iter().enumerate() {
+            m.check().map_err(named(at, "medium", i))?;
+        }
+        Ok(())
+    }
 }
 
-fn box_objects(min: [f64; 3], max: [f64; 3], material: u32) -> Vec<Object> {
-    let faces = box_faces(vec3(min), vec3(max), material).expect("checked: a box of some volume");
-    faces.into_iter().map(Object::shape).collect()
+/// An error's message, prefixed by the `i`th (from 0) item of `kind` in `at` (`group #2 box #3: …`).
+fn named<'a>(at: &'a str, kind: &'a str, i: usize) -> impl Fn(String) -> String + 'a {
+    move |e| format!("{at}{kind} #{}: {e}", i + 1)
 }
