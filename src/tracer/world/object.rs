@@ -52,7 +52,7 @@ impl Object {
     }
 
     /// `hit`, its closest, with what [`Object::hit`] left out for hits that may not be the
-    /// closest: a sphere's or a disc's texture coordinates ([`Shape::with_uv`]).
+    /// closest: the texture coordinates a shape makes late ([`Shape::with_uv`]).
     #[inline]
     fn with_uv(&self, hit: Hit, probe: &Probe) -> Hit {
         match self {
@@ -124,8 +124,9 @@ pub struct Group {
     objects: Vec<Object>,
     runs: Runs,
     bounds: Aabb,
-    /// Whether the closest hit gets its sphere's or disc's texture coordinates (an arc tangent,
-    /// and a sphere's arc cosine): only where a material reads them ([`Group::keep_uv_for`]).
+    /// Whether the closest hit gets the texture coordinates its shape makes late (a sphere's
+    /// arc tangent and arc cosine, [`Shape::late_uv`]): only where a material reads them
+    /// ([`Group::keep_uv_for`]).
     uv: bool,
 }
 
@@ -164,8 +165,8 @@ impl Group {
         Group { uv: self.uv, ..Group::with_tree(self.objects, tree) }
     }
 
-    /// Makes texture coordinates only for the shapes that make them late ([`Shape::late_uv`]:
-    /// spheres, discs) and whose material `reads_uv`, here and in the groups inside (a
+    /// Makes texture coordinates only for the shapes that make them late ([`Shape::late_uv`])
+    /// and whose material `reads_uv`, here and in the groups inside (a
     /// medium's boundary never: its hits are not shaded).
     pub fn keep_uv_for(&mut self, reads_uv: &dyn Fn(u32) -> bool) {
         self.uv = false;
