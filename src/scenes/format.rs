@@ -97,8 +97,8 @@ impl<'de> Visitor<'de> for SceneVisitor {
 
     fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<SceneFile, A::Error> {
         const KEYS: &[&str] = &["camera", "background", "materials", "textures", "group"];
-        let mut camera = None;
-        let (mut background, mut materials, mut textures, mut shapes, mut groups) = Default::default();
+        let (mut camera, mut shapes) = (None, Shapes::default());
+        let (mut background, mut materials, mut textures, mut groups) = Default::default();
         while let Some(key) = map.next_key_seed(Key(KEYS))? {
             match key.as_str() {
                 "camera" => camera = Some(map.next_value()?),
@@ -106,7 +106,7 @@ impl<'de> Visitor<'de> for SceneVisitor {
                 "materials" => materials = map.next_value()?,
                 "textures" => textures = map.next_value()?,
                 "group" => groups = map.next_value()?,
-                table => Shapes::read(&mut shapes, table, &mut map)?,
+                table => shapes.read(table, &mut map)?,
             }
         }
         let camera = camera.ok_or_else(|| de::Error::missing_field("camera"))?;

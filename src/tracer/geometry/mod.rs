@@ -7,8 +7,9 @@
 //! [`Shape`] is any one of the simple shapes, as pbrt's `Shape` is: the rooms above ask a
 //! `Shape` for its hit, box and material and never name the kinds, except where a kind has a
 //! way of its own (a group tests its quads eight at once, `lights/` makes each kind's light).
-//! So a new shape is its file here and its arm in each of `Shape`'s matches below. What is
-//! built from shapes (meshes, instances, media) is the `world` room's.
+//! So a new shape's geometry is its file here and its arm in each of `Shape`'s matches below
+//! (its other places: the book's architecture chapter). What is built from shapes (meshes,
+//! instances, media) is the `world` room's.
 
 pub mod hit;
 pub mod sphere;
