@@ -85,9 +85,9 @@ impl Quad {
         if !(t > 0.0 && t < t_max) {
             return None;
         }
-        let planar = t * ray.dir - to_corner;
-        let alpha = planar.dot(self.dual[0]);
-        let beta = planar.dot(self.dual[1]);
+        // `(t·d − c) · dual` expanded: the two dot products need not wait for the division.
+        let alpha = t * ray.dir.dot(self.dual[0]) - to_corner.dot(self.dual[0]);
+        let beta = t * ray.dir.dot(self.dual[1]) - to_corner.dot(self.dual[1]);
         let inside = |x: Real| (-EDGE..=1.0 + EDGE).contains(&x);
         (inside(alpha) && inside(beta)).then_some((t, alpha, beta))
     }

@@ -116,9 +116,9 @@ impl QuadPacket {
         let denom = dot3(l, n, d);
         let c = [l.sub(q[0], o[0]), l.sub(q[1], o[1]), l.sub(q[2], o[2])];
         let t = l.div(dot3(l, n, c), denom);
-        let p = [l.sub(l.mul(t, d[0]), c[0]), l.sub(l.mul(t, d[1]), c[1]), l.sub(l.mul(t, d[2]), c[2])];
-        let alpha = dot3(l, p, load3(l, &self.dual[0]));
-        let beta = dot3(l, p, load3(l, &self.dual[1]));
+        let (dual_u, dual_v) = (load3(l, &self.dual[0]), load3(l, &self.dual[1]));
+        let alpha = l.sub(l.mul(t, dot3(l, d, dual_u)), dot3(l, c, dual_u));
+        let beta = l.sub(l.mul(t, dot3(l, d, dual_v)), dot3(l, c, dual_v));
         let (low, high) = (l.splat(-EDGE), l.splat(1.0 + EDGE));
         let mask = l.lt_mask(l.splat(0.0), t)
             & l.lt_mask(t, l.splat(t_max))
