@@ -260,6 +260,39 @@ fn raypool_alone_prints_the_usage_and_the_subcommands() {
     assert!(out.stdout.is_empty());
 }
 
+/// The flags `raypool help SUBCOMMAND` lists (`--help` and `--version` aside).
+fn flags_of(help: &str) -> Vec<String> {
+    let options = help.lines().map(str::trim_start).filter(|line| line.starts_with('-'));
+    let words = options.flat_map(|line| line.split_whitespace().take(2));
+    let flags = words.map(|w| w.trim_end_matches(',')).filter(|w| w.starts_with("--"));
+    flags.filter(|f| !matches!(*f, "--help" | "--version")).map(str::to_owned).collect()
+}
+
+/// Whether `text` names `flag` itself (`--out`, not only `--out-dir`).
+fn names(text: &str, flag: &str) -> bool {
+    text.match_indices(flag).any(|(at, _)| {
+        let next = text[at + flag.len()..].chars().next();
+        !next.is_some_and(|c| c.is_ascii_alphanumeric() || c == '-')
+    })
+}
+
+#[test]
+fn the_command_line_chapter_names_every_flag() {
+    // The README sends a user there for "every flag"; the binary's help is what exists.
+    let chapter = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/src/command-line.md");
+    let chapter = std::fs::read_to_string(chapter).unwrap();
+    let dir = scratch("flags");
+    let mut missing = Vec::new();
+    for command in ["render", "merge", "view", "simulate", "scenes", "scene", "bench", "grade", "compare"] {
+        let help = raypool(&["help", command], &dir);
+        assert!(help.status.success(), "`raypool help {command}` failed");
+        let flags = flags_of(&String::from_utf8_lossy(&help.stdout));
+        missing.extend(flags.iter().filter(|f| !names(&chapter, f)).map(|f| format!("{command} {f}")));
+    }
+    assert!(flags_of("  -h, --help\n      --out <OUT>\n").contains(&"--out".to_owned()), "flags read");
+    assert!(missing.is_empty(), "docs/src/command-line.md does not name: {missing:?}");
+}
+
 #[test]
 fn an_interrupted_render_leaves_no_file_and_exits_130_or_143() {
     for (signal, code) in [("INT", 130), ("TERM", 143)] {

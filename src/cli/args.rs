@@ -129,8 +129,11 @@ pub struct ImageArgs {
     /// Tile side in pixels, for the tiled modes (pool, steal).
     #[arg(long, default_value_t = DEFAULT_TILE, value_parser = clap::value_parser!(u32).range(1..=MAX_SIDE as i64))]
     pub tile: u32,
-    /// How rays find the closest sphere: auto (every sphere below 6, the binary tree below
-    /// 64, else the 4-wide tree), or one method for comparisons; all find the same hits.
+    /// How rays find the closest hit, for comparisons; all find the same hits. In a scene of
+    /// spheres only (the first book's): auto (every sphere below 6, the binary tree below 64,
+    /// else the 4-wide tree) or one method. In the second book's scenes (quads, meshes,
+    /// media, lights or textures): flat searches the world's objects in runs of eight without
+    /// a tree, every other value as auto does.
     #[arg(long, value_enum, default_value_t = AccelChoice::Auto)]
     pub accel: AccelChoice,
 }
@@ -323,7 +326,7 @@ pub enum AccelChoice {
     /// The scene's default: every sphere below 6 spheres, the binary tree below 64, else
     /// the 4-wide tree.
     Auto,
-    /// Every sphere tested.
+    /// Every sphere tested (in the second book's scenes: every object, in runs, no tree).
     Flat,
     /// The binary SAH tree.
     Binary,

@@ -194,7 +194,7 @@ fn guiding_refusal(args: &ImageArgs, integrator: Integrator, adaptive: bool) -> 
         return args
             .guide_pilot
             .is_some()
-            .then_some("--guide-pilot sets the learning passes of --guiding on");
+            .then_some("--guide-pilot needs --guiding on (it sets the learning passes' samples per pixel)");
     }
     match (integrator, args.light_sampling) {
         (Integrator::Bidir, _) => Some(
