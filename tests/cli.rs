@@ -260,6 +260,32 @@ fn raypool_alone_prints_the_usage_and_the_subcommands() {
     assert!(out.stdout.is_empty());
 }
 
+#[test]
+fn a_light_turned_away_from_everything_is_warned_of() {
+    let dir = scratch("turned");
+    let scene = |lamp_u: &str, lamp_v: &str| {
+        format!(
+            "[camera]\nlookfrom = [0.0, 1.0, 4.0]\nlookat = [0.0, 0.0, 0.0]\nvup = [0.0, 1.0, 0.0]\nvfov = 40.0\n\
+             [background]\nkind = \"black\"\n[materials]\n\
+             grey = {{ kind = \"lambertian\", albedo = [0.5, 0.5, 0.5] }}\n\
+             lamp = {{ kind = \"diffuse_light\", emit = [4.0, 4.0, 4.0] }}\n\
+             [[quad]]\nq = [-2.0, 0.0, -2.0]\nu = [4.0, 0.0, 0.0]\nv = [0.0, 0.0, 4.0]\nmaterial = \"grey\"\n\
+             [[quad]]\nq = [-0.5, 2.0, -0.5]\nu = {lamp_u}\nv = {lamp_v}\nmaterial = \"lamp\"\n"
+        )
+    };
+    // u × v up: the lamp faces the sky; down: the floor.
+    for (name, u, v, warned) in [
+        ("away", "[0.0, 0.0, 1.0]", "[1.0, 0.0, 0.0]", true),
+        ("down", "[1.0, 0.0, 0.0]", "[0.0, 0.0, 1.0]", false),
+    ] {
+        std::fs::write(dir.join(format!("{name}.toml")), scene(u, v)).unwrap();
+        let out = render(&dir, &["--scene-file", &format!("{name}.toml"), "--out", &format!("{name}.png")]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(stderr.contains("warning: every pixel is black"), warned, "{name}: {stderr}");
+    }
+}
+
 /// The flags `raypool help SUBCOMMAND` lists (`--help` and `--version` aside).
 fn flags_of(help: &str) -> Vec<String> {
     let options = help.lines().map(str::trim_start).filter(|line| line.starts_with('-'));

@@ -22,6 +22,7 @@ use crate::schedule::frame::Frame;
 use crate::schedule::modes::{Schedule, render};
 use crate::schedule::progressive::Cancel;
 use crate::schedule::random::{RngChoice, RngSource};
+use crate::tracer::math::real::Vec3;
 use crate::tracer::render::RenderSettings;
 use crate::tracer::tile::{Shard, Tile};
 
@@ -63,6 +64,11 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         rendered.image = denoise(&job, &rendered.image, threads);
         format!(", denoised in {:.3} s", start.elapsed().as_secs_f64())
     });
+    // A whole image with no light in it, though the scene has lights: most likely a light
+    // turned away from what it should light (lights emit from their front face only).
+    let unlit = shard == Shard::WHOLE
+        && !job.scene.lights().is_empty()
+        && rendered.image.pixels.iter().all(|&p| p == Vec3::ZERO);
     if output.format() == Format::Part {
         let digest = scene_digest(&scene.to_toml());
         let mut part = Part::new(
@@ -94,6 +100,11 @@ pub fn run(args: &RenderArgs) -> Result<(), Error> {
         denoised.unwrap_or_default(),
         args.out.display()
     );
+    if unlit {
+        eprintln!(
+            "raypool: warning: every pixel is black, yet the scene has lights: a light gives off light from its front face only (a quad's is where u × v points, a disc's where its normal points); turn it towards the scene"
+        );
+    }
     Ok(())
 }
 
