@@ -247,10 +247,10 @@ fn a_group_with_a_medium_breaks_ties_between_surfaces_by_their_order_in_the_grou
 #[test]
 fn a_packet_of_quads_finds_bit_for_bit_what_each_quad_finds_alone() {
     // `QuadPacket` runs `Quad::intersect`'s arithmetic in eight lanes at every vector level:
-    // the same hits, the same distance and `(α, β)` to the bit, for axis-aligned quads (a
-    // box's faces, the walls) and tilted ones, rays aimed on, inside and just past the edges;
-    // and its nearest lane is the least `(distance, lane)`, as offering the lanes one by one to
-    // `Closest` finds.
+    // the same hits, the same distance and `(α, β)` to the bit and the same face met, for
+    // axis-aligned quads (a box's faces, the walls) and tilted ones, rays aimed on, inside and
+    // just past the edges; and its nearest lane is the least `(distance, lane)`, as offering
+    // the lanes one by one to `Closest` finds.
     use rand::{SeedableRng, rngs::SmallRng};
     use raypool::tracer::accel::isa::Isa;
     use raypool::tracer::geometry::hit::Closest;
@@ -305,6 +305,8 @@ fn a_packet_of_quads_finds_bit_for_bit_what_each_quad_finds_alone() {
                     (t.to_bits(), a.to_bits(), b.to_bits()),
                     "ray {k}, lane {lane} at {isa:?}"
                 );
+                let front = ray.dir.dot(quads[i].normal()) < 0.0;
+                assert_eq!(found.front >> lane & 1 == 1, front, "ray {k}, lane {lane}: which face");
                 closest.offer(t, lane as u32);
                 hits += 1;
                 edges += usize::from(!(0.0..=1.0).contains(&a) || !(0.0..=1.0).contains(&b));

@@ -63,7 +63,7 @@ impl Shape {
             Shape::Moving(moving) => moving.at(time).hit(ray, t_max),
             Shape::Quad(quad) => {
                 let (t, alpha, beta) = quad.intersect(ray, t_max)?;
-                Some(quad.hit_at(ray, t, alpha, beta))
+                Some(quad.hit_at(t, alpha, beta, ray.dir.dot(quad.normal()) < 0.0))
             }
             Shape::Disc(disc) => disc.hit(ray, t_max),
         }

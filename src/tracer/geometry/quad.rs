@@ -92,11 +92,12 @@ impl Quad {
         (inside(alpha) && inside(beta)).then_some((t, alpha, beta))
     }
 
-    /// The hit record for an intersection found by [`Quad::intersect`].
+    /// The hit record for an intersection found by [`Quad::intersect`] at distance `t` and
+    /// `(α, β)`, met from the front (`front_face`: `n · d < 0`, which a packet's test has
+    /// already found).
     #[inline]
-    pub fn hit_at(&self, ray: &Ray, t: Real, alpha: Real, beta: Real) -> Hit {
+    pub fn hit_at(&self, t: Real, alpha: Real, beta: Real, front_face: bool) -> Hit {
         let (u, v) = (alpha.clamp(0.0, 1.0), beta.clamp(0.0, 1.0));
-        let front_face = ray.dir.dot(self.normal) < 0.0;
         Hit {
             t,
             point: self.q + u * self.u + v * self.v,

@@ -48,6 +48,9 @@ pub struct QuadHits {
     pub beta: Wide,
     /// Bit `k`: lane `k` is hit.
     pub mask: u32,
+    /// Bit `k`: the ray meets lane `k`'s front (`n · d < 0`), so the hit record need not find
+    /// it again.
+    pub front: u32,
 }
 
 impl QuadHits {
@@ -126,7 +129,8 @@ impl QuadPacket {
             & l.le_mask(alpha, high)
             & l.le_mask(low, beta)
             & l.le_mask(beta, high);
-        QuadHits { t: l.store(t), alpha: l.store(alpha), beta: l.store(beta), mask }
+        let front = l.lt_mask(denom, l.splat(0.0));
+        QuadHits { t: l.store(t), alpha: l.store(alpha), beta: l.store(beta), mask, front }
     }
 }
 

@@ -244,8 +244,8 @@ impl WithLanes8 for Nearest<'_> {
             &mut closest,
             #[inline(always)]
             |run: &Run, closest: &mut Closest| {
-                if let Some((alpha, beta)) = run.offer_quads(lanes, ray, closest) {
-                    best = Best::Quad(alpha, beta);
+                if let Some((alpha, beta, front)) = run.offer_quads(lanes, ray, closest) {
+                    best = Best::Quad(alpha, beta, front);
                 }
                 for i in run.spheres() {
                     let Object::Shape(Shape::Sphere(sphere)) = &group.objects[i] else { continue };
@@ -266,8 +266,8 @@ impl WithLanes8 for Nearest<'_> {
             group.offer(i, ray, probe, &mut closest, &mut best);
         }
         match (best, group.objects.get(closest.index as usize)?) {
-            (Best::Quad(alpha, beta), Object::Shape(Shape::Quad(quad))) => {
-                Some(quad.hit_at(ray, closest.t, alpha, beta))
+            (Best::Quad(alpha, beta, front), Object::Shape(Shape::Quad(quad))) => {
+                Some(quad.hit_at(closest.t, alpha, beta, front))
             }
             (Best::Sphere, Object::Shape(Shape::Sphere(sphere))) => {
                 let hit = sphere.hit_at(ray, closest.t);

@@ -75,8 +75,9 @@ pub enum Kind<'a> {
 pub enum Best {
     /// No hit yet.
     Nothing,
-    /// A quad: the hit's `(α, β)` (its distance is the closest one).
-    Quad(Real, Real),
+    /// A quad: the hit's `(α, β)` (its distance is the closest one), and whether the ray meets
+    /// its front.
+    Quad(Real, Real, bool),
     /// A sphere: the distance is all its record needs.
     Sphere,
     /// Any other object: its whole record.
@@ -220,9 +221,14 @@ impl Runs {
 
 impl Run {
     /// Offers its quads' nearest hit below `closest`'s bound to `closest`; if it became the
-    /// closest, its `(α, β)`.
+    /// closest, its `(α, β)` and whether the ray meets the quad's front.
     #[inline(always)]
-    pub fn offer_quads<L: Lanes8>(&self, lanes: L, ray: &Ray, closest: &mut Closest) -> Option<(Real, Real)> {
+    pub fn offer_quads<L: Lanes8>(
+        &self,
+        lanes: L,
+        ray: &Ray,
+        closest: &mut Closest,
+    ) -> Option<(Real, Real, bool)> {
         if self.quads_mask == 0 {
             return None;
         }
@@ -230,7 +236,7 @@ impl Run {
         let k = hits.nearest()?;
         let i = self.indices[k];
         closest.offer(hits.t[k], i);
-        (closest.index == i).then(|| (hits.alpha[k], hits.beta[k]))
+        (closest.index == i).then(|| (hits.alpha[k], hits.beta[k], hits.front >> k & 1 != 0))
     }
 
     /// Whether one of its quads is hit in `(0, t_max)`.
