@@ -244,8 +244,8 @@ impl WithLanes8 for Nearest<'_> {
             &mut closest,
             #[inline(always)]
             |run: &Run, closest: &mut Closest| {
-                if let Some((alpha, beta, front)) = run.offer_quads(lanes, ray, closest) {
-                    best = Best::Quad(alpha, beta, front);
+                if let Some(quad) = run.offer_quads(lanes, ray, closest) {
+                    best = quad;
                 }
                 for i in run.spheres() {
                     let Object::Shape(Shape::Sphere(sphere)) = &group.objects[i] else { continue };
@@ -266,7 +266,7 @@ impl WithLanes8 for Nearest<'_> {
             group.offer(i, ray, probe, &mut closest, &mut best);
         }
         match (best, group.objects.get(closest.index as usize)?) {
-            (Best::Quad(alpha, beta, front), Object::Shape(Shape::Quad(quad))) => {
+            (Best::Quad { alpha, beta, front }, Object::Shape(Shape::Quad(quad))) => {
                 Some(quad.hit_at(closest.t, alpha, beta, front))
             }
             (Best::Sphere, Object::Shape(Shape::Sphere(sphere))) => {

@@ -75,9 +75,16 @@ pub enum Kind<'a> {
 pub enum Best {
     /// No hit yet.
     Nothing,
-    /// A quad: the hit's `(α, β)` (its distance is the closest one), and whether the ray meets
-    /// its front.
-    Quad(Real, Real, bool),
+    /// A quad: the hit's coordinates (its distance is the closest one), and whether the ray
+    /// meets its front.
+    Quad {
+        /// Along its first edge.
+        alpha: Real,
+        /// Along its second edge.
+        beta: Real,
+        /// `n · d < 0`.
+        front: bool,
+    },
     /// A sphere: the distance is all its record needs.
     Sphere,
     /// Any other object: its whole record.
@@ -221,14 +228,9 @@ impl Runs {
 
 impl Run {
     /// Offers its quads' nearest hit below `closest`'s bound to `closest`; if it became the
-    /// closest, its `(α, β)` and whether the ray meets the quad's front.
+    /// closest, what its record is made from ([`Best::Quad`]).
     #[inline(always)]
-    pub fn offer_quads<L: Lanes8>(
-        &self,
-        lanes: L,
-        ray: &Ray,
-        closest: &mut Closest,
-    ) -> Option<(Real, Real, bool)> {
+    pub fn offer_quads<L: Lanes8>(&self, lanes: L, ray: &Ray, closest: &mut Closest) -> Option<Best> {
         if self.quads_mask == 0 {
             return None;
         }
@@ -236,7 +238,8 @@ impl Run {
         let k = hits.nearest()?;
         let i = self.indices[k];
         closest.offer(hits.t[k], i);
-        (closest.index == i).then(|| (hits.alpha[k], hits.beta[k], hits.front >> k & 1 != 0))
+        let front = hits.front >> k & 1 != 0;
+        (closest.index == i).then_some(Best::Quad { alpha: hits.alpha[k], beta: hits.beta[k], front })
     }
 
     /// Whether one of its quads is hit in `(0, t_max)`.
