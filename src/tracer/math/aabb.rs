@@ -96,6 +96,14 @@ impl Aabb {
     /// ray meets first on an axis depends on its direction, which a bounce draws at random.
     #[inline(always)]
     pub fn enters(&self, ray: &Ray, t_max: Real) -> bool {
+        self.span(ray, t_max).is_some()
+    }
+
+    /// Where `ray` enters and leaves the box within `[0, t_max]`, as [`Aabb::enters`] finds
+    /// them (the exit scaled up by its rounding bound, the entry as computed); `None` where
+    /// it does not enter before `t_max`.
+    #[inline(always)]
+    pub fn span(&self, ray: &Ray, t_max: Real) -> Option<(Real, Real)> {
         let inv = ray.dir.recip();
         let (low, high) = ((self.min - ray.origin) * inv, (self.max - ray.origin) * inv);
         let backwards = inv.cmplt(Vec3::ZERO);
@@ -106,7 +114,7 @@ impl Aabb {
         let sooner = |a: Real, b: Real| if a < b { a } else { b };
         let near = later(t_in.z, later(t_in.y, later(t_in.x, 0.0)));
         let far = sooner(t_out.z, sooner(t_out.y, sooner(t_out.x, t_max)));
-        near <= far
+        (near <= far).then_some((near, far))
     }
 }
 

@@ -366,7 +366,8 @@ impl Instance {
 //
 // The boundary is any closed group. If its first hit is a front face, the ray enters there
 // and leaves at the next hit; if a back face, the ray starts inside (a camera in global fog,
-// a path that scattered in the smoke) and leaves there.
+// a path that scattered in the smoke) and leaves there, or it grazed an edge, so it is
+// inside no sooner than the boundary's box.
 
 /// Fog or smoke inside `boundary`.
 #[derive(Clone, Debug)]
@@ -396,8 +397,19 @@ impl Medium {
         if 1.0 - u > t_max * self.density * (1.0 + 1e-4) {
             return None;
         }
+        // The boundary's box bounds where the medium can lie along the ray: a ray that
+        // meets no surface (`t_max` infinite) mostly draws a distance past the box's span,
+        // and needs no search of the boundary.
+        let bounds = self.boundary.bounds();
+        let (near, far) = bounds.span(ray, t_max)?;
+        // Above the span by far more than its rounding, the boundary's hit points' and their
+        // spawn offsets': a draw beyond it is one past the boundary's exit.
+        let longest = far - near + 1e-4 * (far + bounds.magnitude());
+        if 1.0 - u > longest * self.density * (1.0 + 1e-4) {
+            return None;
+        }
         let distance = -u.ln() / self.density;
-        if distance.is_nan() || distance >= t_max {
+        if distance.is_nan() || distance >= t_max || distance >= longest {
             return None;
         }
         let first = self.boundary.hit(ray, Real::INFINITY, probe)?;
@@ -407,7 +419,10 @@ impl Medium {
             let last = self.boundary.hit(&inside, Real::INFINITY, probe)?;
             (first.t, (last.point - ray.origin).dot(ray.dir))
         } else {
-            (0.0, first.t)
+            // Met from behind first: the ray starts inside, or, if it starts outside the
+            // box, it met a face from behind at an edge it grazes (the medium starts no
+            // sooner than the box; `near` is 0 for a start inside it).
+            (near, first.t)
         };
         if enter >= t_max {
             return None;
