@@ -322,11 +322,11 @@ fn smoke_in_a_box_is_never_met_outside_the_box() {
     // A ray that reaches a box at an edge may meet one of its faces from behind first, as a
     // ray leaving the box would (a face's edge is accepted a few ulps past its plane); the
     // medium took such a ray as starting inside and drew its scattering point anywhere
-    // between the ray's start and that edge: smoke in front of the camera (one pixel of a
-    // 120-wide, 8-spp `cornell-smoke`). Rays from far off, each aimed at a point of one of
-    // the box's four vertical edges: every scattering point must lie in the box. Before the
-    // medium started no sooner than its boundary's box (`Medium::hit`), 132,706 of 242,711
-    // points lay outside.
+    // between the ray's start and that edge: smoke in front of the camera (found on
+    // `cornell-smoke`). Rays from far off, each aimed at a point of one of the box's four
+    // vertical edges: every scattering point must lie in the box. It fails where the medium
+    // may start sooner than its boundary's box (`Medium::hit`; how many points lay outside
+    // then: `results/perf.md`, eighteenth pass).
     use rand::{SeedableRng, rngs::SmallRng};
     use raypool::tracer::geometry::quad::box_faces;
     use raypool::tracer::sampling::warp::uniform;
@@ -345,7 +345,7 @@ fn smoke_in_a_box_is_never_met_outside_the_box() {
             Vec3::new(if k & 1 == 0 { 0.0 } else { 165.0 }, 0.0, if k & 2 == 0 { 0.0 } else { 165.0 });
         let target = corner + Vec3::new(0.0, 330.0 * uniform(&mut rng), 0.0);
         let outward = Vec3::new(corner.x - 82.5, 0.0, corner.z - 82.5).normalize();
-        let turn = 3.0 * std::f32::consts::FRAC_PI_4 as Real * (2.0 * uniform(&mut rng) - 1.0);
+        let turn = 3.0 * raypool::tracer::math::real::consts::FRAC_PI_4 * (2.0 * uniform(&mut rng) - 1.0);
         let away = Vec3::new(
             outward.x * turn.cos() - outward.z * turn.sin(),
             0.3 * (uniform(&mut rng) - 0.5),
